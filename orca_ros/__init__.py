@@ -1,0 +1,42 @@
+"""orca_ros: a whole-body reactive robot controller (QP on joint accelerations/torques) with ROS 2 nodes.
+
+``import orca_ros as orca`` gives the whole core API (no ROS import happens here; the ROS 2 nodes live in
+``orca_ros.ros`` and are imported only on demand).
+"""
+from .common import ActivationState, TaskBase
+from .constraint import (
+    DynamicsEquationConstraint,
+    GenericConstraint,
+    JointAccelerationLimitConstraint,
+    JointBoxConstraint,
+    JointPositionLimitConstraint,
+    JointTorqueLimitConstraint,
+    JointVelocityLimitConstraint,
+)
+from .math import (
+    make_transform,
+    orientation_error,
+    pose_error,
+    quat_from_kuka_convention,
+    quat_from_rpy,
+    rotation_from_rpy,
+    smooth_ramp,
+)
+from .optim import Controller, ProblemLayout, QPSolver, ResolutionStrategy, ReturnCode, WeightedProblem
+from .robot import WORLD_FRAME, RobotModel, RobotState
+from .servo import CartesianAccelerationPID, PIDController
+from .task import CartesianTask, GenericTask, JointAccelerationTask, JointTorqueTask, RegularisationTask
+from .utils import Logger, MinJerkPositionTrajectory, get_logger
+from .paths import default_urdf_path, share_path
+
+__version__ = "0.1.0"
+
+__all__ = [
+    "ActivationState", "CartesianAccelerationPID", "CartesianTask", "Controller", "DynamicsEquationConstraint",
+    "GenericConstraint", "GenericTask", "JointAccelerationLimitConstraint", "JointAccelerationTask",
+    "JointBoxConstraint", "JointPositionLimitConstraint", "JointTorqueLimitConstraint", "JointTorqueTask",
+    "JointVelocityLimitConstraint", "Logger", "MinJerkPositionTrajectory", "PIDController", "ProblemLayout",
+    "QPSolver", "RegularisationTask", "ResolutionStrategy", "ReturnCode", "RobotModel", "RobotState", "TaskBase",
+    "WORLD_FRAME", "WeightedProblem", "default_urdf_path", "get_logger", "make_transform", "orientation_error",
+    "pose_error", "quat_from_kuka_convention", "quat_from_rpy", "rotation_from_rpy", "share_path", "smooth_ramp",
+]

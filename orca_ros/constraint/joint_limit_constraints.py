@@ -1,0 +1,126 @@
+"""Joint torque, position, velocity and acceleration limits.
+
+Position and velocity limits are turned into acceleration bounds by predicting the motion over a horizon h:
+    q + h v + h^2/2 a in [q_min, q_max]   ->  a in 2/h^2 [q_min - q - h v, q_max - q - h v]
+    v + h a in [v_min, v_max]              ->  a in 1/h [v_min - v, v_max - v]
+Position and velocity limits default to the URDF's values; torque limits to the URDF's efforts.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .generic_constraint import GenericConstraint, JointBoxConstraint, _limit_vector
+
+
+class _SymmetricLimitsMixin:
+    def set_limits(self, lower, upper) -> None:
+        n = self.robot.get_nr_of_degrees_of_freedom() if self.robot is not None else np.asarray(lower).size
+        lo = _limit_vector(lower, n, "lower limit", self.name)
+        hi = _limit_vector(upper, n, "upper limit", self.name)
+        if np.any(lo > hi):
+            raise ValueError(f"constraint '{self.name}': lower limit above upper limit at joints "
+                             f"{np.flatnonzero(lo > hi).tolist()}")
+        self._limits = (lo, hi)
+
+    def get_limits(self):
+        if self._limits is None:
+            return None
+        return self._limits[0].copy(), self._limits[1].copy()
+
+    def _default_limits(self):
+        return None
+
+    def set_robot_model(self, robot) -> None:
+        super().set_robot_model(robot)
+        if self._limits is None:
+            self._limits = self._default_limits()
+
+
+class JointTorqueLimitConstraint(_SymmetricLimitsMixin, GenericConstraint):
+    """tau_min <= M_a nu_dot + n_a - J_a^T w <= tau_max."""
+
+    def __init__(self, name: str):
+        super().__init__(name)
+        self._limits = None
+
+    def rows(self) -> int:
+        return self.layout.ndof
+
+    def _default_limits(self):
+        e = self.robot.get_joint_torque_limits()
+        e = np.where((e > 0) & np.isfinite(e), e, np.inf)
+        return -e, e
+
+    def _update_constraint_function(self, current_time: float, dt: float) -> None:
+        lay = self.layout
+        self.C[:] = lay.T
+        lo, hi = self._limits
+        np.subtract(lo, lay.t0, out=self.lb)
+        np.subtract(hi, lay.t0, out=self.ub)
+
+
+class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
+    def __init__(self, name: str, horizon: float = 0.05):
+        super().__init__(name)
+        self._limits = None
+        self.set_horizon(horizon)
+
+    def set_horizon(self, horizon: float) -> None:
+        if not horizon > 0.0:
+            raise ValueError(f"constraint '{self.name}': prediction horizon must be > 0 s")
+        self.horizon = float(horizon)
+
+    def _default_limits(self):
+        return self.robot.get_joint_position_limits()
+
+    def _update_constraint_function(self, current_time: float, dt: float) -> None:
+        h = self.horizon
+        robot = self.robot
+        pred = robot._q + h * robot._v
+        k = 2.0 / (h * h)
+        lo, hi = self._limits
+        np.multiply(lo - pred, k, out=self.lb)
+        np.multiply(hi - pred, k, out=self.ub)
+
+
+class JointVelocityLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
+    def __init__(self, name: str, horizon: float | None = None):
+        super().__init__(name)
+        self._limits = None
+        self.horizon = horizon  # None: one control period
+
+    def set_horizon(self, horizon: float | None) -> None:
+        if horizon is not None and not horizon > 0.0:
+            raise ValueError(f"constraint '{self.name}': horizon must be > 0 s (or None for dt)")
+        self.horizon = horizon
+
+    def _default_limits(self):
+        v = self.robot.get_joint_velocity_limits()
+        v = np.where((v > 0) & np.isfinite(v), v, np.inf)
+        return -v, v
+
+    def _update_constraint_function(self, current_time: float, dt: float) -> None:
+        h = self.horizon if self.horizon is not None else dt
+        if not h > 0.0:
+            h = 1e-3
+        v = self.robot._v
+        lo, hi = self._limits
+        np.multiply(lo - v, 1.0 / h, out=self.lb)
+        np.multiply(hi - v, 1.0 / h, out=self.ub)
+
+
+class JointAccelerationLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
+    """qdd_min <= q_ddot <= qdd_max (no URDF field: unbounded until set_limits is called)."""
+
+    hard = True
+
+    def __init__(self, name: str):
+        super().__init__(name)
+        self._limits = None
+
+    def _default_limits(self):
+        n = self.robot.get_nr_of_degrees_of_freedom()
+        return np.full(n, -np.inf), np.full(n, np.inf)
+
+    def _update_constraint_function(self, current_time: float, dt: float) -> None:
+        self.lb[:], self.ub[:] = self._limits

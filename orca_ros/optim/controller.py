@@ -1,0 +1,258 @@
+"""The whole-body controller: tasks + constraints -> one QP per cycle -> joint torques.
+
+Every ``update(t, dt)``: the robot terms are refreshed once, each task and constraint recomputes its
+matrices, the problem is assembled into preallocated arrays and solved (warm-started). Adding or removing
+a task/constraint marks the structure dirty; the problem (sizes, solver, sparsity) is rebuilt at the next
+update only then.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from ..constraint.dynamics_equation_constraint import DynamicsEquationConstraint
+from ..constraint.generic_constraint import GenericConstraint
+from ..task.generic_task import GenericTask
+from ..task.regularisation_task import RegularisationTask
+from ..utils.logger import get_logger
+from .problem_layout import ProblemLayout
+from .resolution_strategy import ResolutionStrategy
+from .solvers import QPSolver, ReturnCode
+from .weighted_problem import WeightedProblem
+
+_LOG = get_logger("controller")
+
+
+class Controller:
+    def __init__(self, name: str, robot, resolution_strategy=ResolutionStrategy.ONE_LEVEL_WEIGHTED,
+                 solver=QPSolver.PROXQP):
+        if robot is None or getattr(robot, "model", None) is None:
+            raise ValueError("Controller needs a RobotModel with a loaded URDF")
+        if isinstance(resolution_strategy, str):
+            resolution_strategy = ResolutionStrategy.from_string(resolution_strategy)
+        if isinstance(solver, str):
+            solver = QPSolver.from_string(solver)
+        if resolution_strategy is not ResolutionStrategy.ONE_LEVEL_WEIGHTED:
+            raise NotImplementedError(f"resolution strategy {resolution_strategy.value} is not available yet; "
+                                      "use ResolutionStrategy.ONE_LEVEL_WEIGHTED")
+        self.name = name
+        self.robot = robot
+        self.resolution_strategy = resolution_strategy
+        self.solver = solver
+        self.layout = ProblemLayout(robot)
+        self._tasks: list[GenericTask] = []
+        self._constraints: list[GenericConstraint] = []
+        self._problems: list[WeightedProblem] = []
+        self._dirty = True
+        self._solution_found = False
+        self._return_code = ReturnCode.NOT_SOLVED
+        self._remove_gravity = False
+        self._remove_coriolis = False
+        self._update_cb: Callable[[float, float], None] | None = None
+        n = self.layout.ndof
+        self._tau = np.zeros(n)
+        self._tau_cmd = np.zeros(n)
+        self._acc = np.zeros(self.layout.nv)
+        self._x = np.zeros(self.layout.nx)
+        # always present, always active: the equation of motion and a small regularisation
+        self.global_regularisation = RegularisationTask("GlobalRegularisation")
+        self.dynamics_constraint = DynamicsEquationConstraint("DynamicsEquation")
+        self._internal = (self.global_regularisation, self.dynamics_constraint)
+        self._attach(self.global_regularisation)
+        self._attach(self.dynamics_constraint)
+        self._tasks.append(self.global_regularisation)
+        self._constraints.append(self.dynamics_constraint)
+        for obj in self._internal:
+            obj.activate()
+
+    # -------------------------------------------------------------- configuration
+    def _attach(self, obj) -> None:
+        obj.set_robot_model(self.robot)
+        obj.resize(self.layout)
+
+    def _check_name(self, name: str) -> None:
+        if any(o.name == name for o in self._tasks + self._constraints):
+            raise ValueError(f"controller '{self.name}': a task or constraint named '{name}' already exists")
+
+    def add_task(self, task, name: str | None = None, level: int | None = None):
+        """Add a task instance, or build one from its class and name. Returns the task."""
+        if isinstance(task, type):
+            if name is None:
+                raise ValueError("add_task(TaskClass, name): a name is needed to build the task")
+            task = task(name)
+        if not isinstance(task, GenericTask):
+            raise TypeError(f"add_task expects a task, got {type(task).__name__}")
+        self._check_name(task.name)
+        if level is not None:
+            task.set_priority_level(level)
+        self._attach(task)
+        self._tasks.append(task)
+        self._dirty = True
+        return task
+
+    def add_constraint(self, constraint, name: str | None = None):
+        """Add a constraint instance, or build one from its class and name. Returns the constraint."""
+        if isinstance(constraint, type):
+            if name is None:
+                raise ValueError("add_constraint(ConstraintClass, name): a name is needed")
+            constraint = constraint(name)
+        if not isinstance(constraint, GenericConstraint):
+            raise TypeError(f"add_constraint expects a constraint, got {type(constraint).__name__}")
+        self._check_name(constraint.name)
+        self._attach(constraint)
+        self._constraints.append(constraint)
+        self._dirty = True
+        return constraint
+
+    def remove_task(self, name: str) -> None:
+        self._tasks.remove(self.get_task(name))
+        self._dirty = True
+
+    def remove_constraint(self, name: str) -> None:
+        self._constraints.remove(self.get_constraint(name))
+        self._dirty = True
+
+    def get_task(self, name: str) -> GenericTask:
+        for t in self._tasks:
+            if t.name == name:
+                return t
+        raise KeyError(f"controller '{self.name}': no task named '{name}'")
+
+    def get_constraint(self, name: str) -> GenericConstraint:
+        for c in self._constraints:
+            if c.name == name:
+                return c
+        raise KeyError(f"controller '{self.name}': no constraint named '{name}'")
+
+    def get_tasks(self) -> list[GenericTask]:
+        return [t for t in self._tasks if t not in self._internal]
+
+    def get_constraints(self) -> list[GenericConstraint]:
+        return [c for c in self._constraints if c not in self._internal]
+
+    def remove_gravity_torques_from_solution(self, do_remove: bool) -> None:
+        """Subtract g(q) from the torque command (for robots whose drives compensate gravity)."""
+        self._remove_gravity = bool(do_remove)
+
+    def remove_coriolis_torques_from_solution(self, do_remove: bool) -> None:
+        self._remove_coriolis = bool(do_remove)
+
+    def set_update_callback(self, cb: Callable[[float, float], None]) -> None:
+        """Called at the end of every update(t, dt)."""
+        self._update_cb = cb
+
+    on_update_callback = set_update_callback
+
+    def _configure(self) -> None:
+        self._problems = [WeightedProblem(self.layout, self._tasks, self._constraints, self.solver, level=0)]
+        self._dirty = False
+
+    def get_problem_at_level(self, level: int = 0) -> WeightedProblem:
+        if self._dirty:
+            self._configure()
+        return self._problems[level]
+
+    # -------------------------------------------------------------- activation
+    def activate_tasks_and_constraints(self) -> None:
+        for obj in self.get_tasks() + self.get_constraints():
+            obj.activate()
+
+    def deactivate_tasks_and_constraints(self) -> None:
+        for obj in self.get_tasks() + self.get_constraints():
+            obj.deactivate()
+
+    def tasks_and_constraints_deactivated(self) -> bool:
+        return all(o.is_deactivated() for o in self.get_tasks() + self.get_constraints())
+
+    # -------------------------------------------------------------- cycle
+    def update(self, current_time: float, dt: float) -> bool:
+        """Recompute everything for the robot's current state and solve; True when a solution was found."""
+        self._solution_found = False
+        if self._dirty:
+            self._configure()
+        self.layout.update()
+        for t in self._tasks:
+            t.update(current_time, dt)
+        for c in self._constraints:
+            c.update(current_time, dt)
+        problem = self._problems[0]
+        problem.build()
+        code = problem.solve()
+        self._return_code = code
+        if code is ReturnCode.SUCCESS:
+            x = problem.x
+            lay = self.layout
+            self._x[:] = x
+            self._acc[:] = x[lay.acc]
+            np.dot(lay.T, x, out=self._tau)
+            self._tau += lay.t0
+            self._make_command()
+            self._solution_found = True
+        else:
+            _LOG.debug("controller '%s': no solution at t=%.4f (%s)", self.name, current_time, code.value)
+        if self._update_cb is not None:
+            self._update_cb(current_time, dt)
+        return self._solution_found
+
+    def _make_command(self) -> None:
+        cmd = self._tau_cmd
+        cmd[:] = self._tau
+        if self._remove_gravity or self._remove_coriolis:
+            nb = self.layout.nbase
+            g = self.robot.get_generalized_gravity_torques()[nb:]
+            if self._remove_gravity:
+                cmd -= g
+            if self._remove_coriolis:
+                cmd -= self.robot.get_generalized_gravity_and_coriolis_torques()[nb:] - g
+
+    def solution_found(self) -> bool:
+        return self._solution_found
+
+    def get_return_code(self) -> ReturnCode:
+        return self._return_code
+
+    def get_joint_torque_command(self) -> np.ndarray:
+        """Joint torques to send (gravity/Coriolis removed if asked)."""
+        return self._tau_cmd.copy()
+
+    def get_joint_acceleration_command(self) -> np.ndarray:
+        return self._acc[self.layout.joint_acc].copy()
+
+    def get_reduced_solution(self) -> np.ndarray:
+        """The solver's own variables x = [nu_dot, wrenches]."""
+        return self._x.copy()
+
+    def get_solution(self) -> np.ndarray:
+        """Full solution [base acc, joint acc, base torque, joint torque, wrenches] (base parts empty for
+        a fixed base). Torques here are the full dynamic torques, before any gravity/Coriolis removal."""
+        lay = self.layout
+        nb = lay.nbase
+        return np.concatenate((self._acc, np.zeros(nb), self._tau, self._x[lay.wrench]))
+
+    def compute_kkt_torques(self) -> np.ndarray:
+        """Torques of the equality-only problem (tasks + equalities, no inequality or box constraints),
+        from the matrices of the last update. A usable fallback when the QP has no solution."""
+        problem = self.get_problem_at_level(0)
+        x = problem.solve_equality_only()
+        tau = self.layout.T @ x + self.layout.t0
+        return tau
+
+    def print(self) -> None:
+        print(self.describe())
+
+    def describe(self) -> str:
+        lay = self.layout
+        lines = [f"Controller '{self.name}' ({self.resolution_strategy.value}, solver {self.solver.value}); "
+                 f"robot '{self.robot.name}' {lay.ndof} dof, {'floating' if lay.nbase else 'fixed'} base, "
+                 f"QP variables {lay.nx}",
+                 f"  last return code: {self._return_code.value}"]
+        lines.append("  tasks:")
+        lines += [f"    {t.describe()}" for t in self._tasks]
+        lines.append("  constraints:")
+        lines += [f"    {c.describe()}" for c in self._constraints]
+        if self._solution_found:
+            with np.printoptions(precision=4, suppress=True):
+                lines.append(f"  joint acceleration command: {self.get_joint_acceleration_command()}")
+                lines.append(f"  joint torque command:       {self._tau_cmd}")
+        return "\n".join(lines)

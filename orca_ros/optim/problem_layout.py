@@ -1,0 +1,58 @@
+"""Variables of the reduced QP and the affine map that recovers joint torques from them.
+
+The reference formulation optimises chi = [base acc, joint acc, base torque, joint torque, wrenches]
+subject to the dynamics  M nu_dot + n = S^T tau + J_c^T w.  Torques are a linear function of the other
+variables, so the controller solves for x = [nu_dot (nv), w (6 * n_wrenches)] only and recovers
+
+    tau = T x + t0,   T = [M_a, -J_c,a^T],  t0 = n_a      (rows "a" = actuated joints)
+
+while the unactuated (floating-base) rows stay as an equality constraint  [M_u, -J_c,u^T] x = -n_u.
+Every task or constraint written on torques is mapped through (T, t0).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+class ProblemLayout:
+    def __init__(self, robot):
+        self.robot = robot
+        self.nv = robot.get_configuration_space_dimension()
+        self.ndof = robot.get_nr_of_degrees_of_freedom()
+        self.nbase = self.nv - self.ndof
+        self.n_wrenches = 0
+        self.wrench_jacobian: np.ndarray | None = None  # (6 n_wrenches, nv), set by contacts
+        self._resize()
+
+    def _resize(self) -> None:
+        self.nx = self.nv + 6 * self.n_wrenches
+        self.acc = slice(0, self.nv)
+        self.base_acc = slice(0, self.nbase)
+        self.joint_acc = slice(self.nbase, self.nv)
+        self.wrench = slice(self.nv, self.nx)
+        self._T = np.zeros((self.ndof, self.nx))
+        self._t0 = np.zeros(self.ndof)
+        self.T = self._T
+        self.t0 = self._t0
+
+    def set_number_of_wrenches(self, n: int) -> None:
+        self.n_wrenches = int(n)
+        self._resize()
+
+    def update(self) -> None:
+        """Refresh (T, t0) from the robot's current mass matrix and nonlinear effects."""
+        M = self.robot.get_mass_matrix()
+        n = self.robot.get_generalized_gravity_and_coriolis_torques()
+        nb = self.nbase
+        if self.n_wrenches == 0:
+            # no copy: views on the model's buffers, valid for this cycle
+            self.T = M[nb:] if nb else M
+            self.t0 = n[nb:] if nb else n
+        else:
+            self._T[:, : self.nv] = M[nb:]
+            self._T[:, self.nv:] = -self.wrench_jacobian[:, nb:].T
+            self._t0[:] = n[nb:]
+            self.T, self.t0 = self._T, self._t0
+
+    def torques(self, x: np.ndarray) -> np.ndarray:
+        return self.T @ x + self.t0

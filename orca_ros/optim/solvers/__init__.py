@@ -1,0 +1,15 @@
+"""QP back-ends."""
+from .base import QPBackend, QPSolver, ReturnCode
+from .osqp_backend import OSQPBackend
+from .proxqp_backend import ProxQPBackend
+
+
+def make_backend(solver: QPSolver, nx: int, n_eq: int, n_in: int) -> QPBackend:
+    if solver is QPSolver.OSQP:
+        return OSQPBackend(nx, n_eq, n_in)
+    if solver is QPSolver.PROXQP:
+        return ProxQPBackend(nx, n_eq, n_in)
+    raise ValueError(f"unsupported QP solver {solver!r}")
+
+
+__all__ = ["QPBackend", "QPSolver", "ReturnCode", "OSQPBackend", "ProxQPBackend", "make_backend"]

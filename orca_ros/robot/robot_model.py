@@ -1,0 +1,400 @@
+"""Robot kinematics and dynamics on Pinocchio, for fixed-base and floating-base robots.
+
+Conventions
+-----------
+* Joint order is Pinocchio's (depth-first over the URDF tree); :meth:`get_joint_names` gives it.
+* Fixed base (default): the URDF root link is welded to the world, configuration = joint angles.
+* Floating base (``floating_base=True``): a free-flyer root; the generalized velocity is
+  [base twist in the *base* frame (linear, angular) -- Pinocchio's free-flyer convention, joint velocities].
+  The 5-argument :meth:`set_robot_state` takes the base twist in the *world* frame and converts it.
+* Cartesian quantities are expressed in the *base frame* set by :meth:`set_base_frame` (default: the URDF
+  root link; ``"world"`` for the inertial frame): 4x4 poses, 6xN Jacobians [linear; angular] of the frame
+  origin's velocity in base-frame axes, and the matching bias acceleration J_dot * nu.
+"""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pinocchio as pin
+
+from ..utils.logger import get_logger
+from . import frame_kinematics as fk
+
+_LOG = get_logger("robot")
+WORLD_FRAME = "world"
+_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+
+
+class RobotModel:
+    """Kinematic/dynamic model of a robot, updated with :meth:`set_robot_state` every control cycle."""
+
+    def __init__(self, name: str = ""):
+        self.name = name
+        self.model: pin.Model | None = None
+        self.data: pin.Data | None = None
+        self._initialized = False
+        self._stamp = 0  # incremented at every state change; caches compare against it
+        self._terms_stamp = -1
+        self._gravity_stamp = -1
+        self._frame_cache: dict[int, tuple] = {}
+        self.urdf_path: str | None = None
+
+    # ------------------------------------------------------------------ loading
+    def load_model_from_file(self, urdf_path: str, floating_base: bool = False) -> bool:
+        if not isinstance(urdf_path, (str, os.PathLike)) or not os.path.isfile(urdf_path):
+            raise FileNotFoundError(f"URDF file not found: '{urdf_path}'")
+        with open(urdf_path, "r", encoding="utf-8") as fh:
+            xml = fh.read()
+        self.urdf_path = os.fspath(urdf_path)
+        return self.load_model_from_string(xml, floating_base)
+
+    def load_model_from_string(self, urdf_xml: str, floating_base: bool = False) -> bool:
+        if not isinstance(urdf_xml, str) or "<robot" not in urdf_xml:
+            raise ValueError("not a URDF description: no <robot> element in the given string")
+        try:
+            if floating_base:
+                model = pin.buildModelFromXML(urdf_xml, pin.JointModelFreeFlyer())
+            else:
+                model = pin.buildModelFromXML(urdf_xml)
+        except Exception as exc:  # pinocchio raises ValueError/RuntimeError with its own text
+            raise ValueError(f"could not parse URDF: {exc}") from exc
+        self._setup(model, floating_base)
+        return True
+
+    def _setup(self, model: pin.Model, floating_base: bool) -> None:
+        self.model = model
+        self.data = model.createData()
+        self.floating_base = bool(floating_base)
+        if not self.name:
+            self.name = model.name
+        first = 2 if floating_base else 1
+        self._joint_ids = list(range(first, model.njoints))
+        self._joint_names = [model.names[j] for j in self._joint_ids]
+        self.nbase = 6 if floating_base else 0
+        self.ndof = model.nv - self.nbase
+        # mapping joint angles -> Pinocchio configuration (continuous joints are cos/sin pairs)
+        self._q_simple = True
+        self._q_map = []
+        for j in self._joint_ids:
+            jm = model.joints[j]
+            if jm.nq == jm.nv == 1:
+                self._q_map.append((jm.idx_q, jm.idx_v, 1))
+            elif jm.nq == 2 and jm.nv == 1:
+                self._q_map.append((jm.idx_q, jm.idx_v, 2))
+                self._q_simple = False
+            else:
+                raise ValueError(f"joint '{model.names[j]}' of type {jm.shortname()} is not supported "
+                                 "(only 1-DoF revolute/prismatic/continuous joints)")
+        lower = np.full(self.ndof, -np.inf)
+        upper = np.full(self.ndof, np.inf)
+        for k, (iq, iv, nq) in enumerate(self._q_map):
+            if nq == 1:
+                lower[k], upper[k] = model.lowerPositionLimit[iq], model.upperPositionLimit[iq]
+        lower[lower < -1e10] = -np.inf
+        upper[upper > 1e10] = np.inf
+        self._pos_limits = (lower, upper)
+        self._vel_limits = np.array(model.velocityLimit[self.nbase:], dtype=float)
+        self._trq_limits = np.array(model.effortLimit[self.nbase:], dtype=float)
+        self._q_pin = pin.neutral(model)
+        self._v_pin = np.zeros(model.nv)
+        self._q = np.zeros(self.ndof)
+        self._v = np.zeros(self.ndof)
+        self._world_H_base = np.eye(4)
+        self._base_twist_world = np.zeros(6)
+        root_frame = model.frames[1].name if model.nframes > 1 else WORLD_FRAME
+        # with a floating base the first body frame is the free-flyer's child link
+        self._root_link = self._first_body_frame()
+        self._base_frame = None
+        self.set_base_frame(self._root_link or root_frame)
+        self.set_gravity(np.array([0.0, 0.0, -9.81]))
+        self._initialized = False
+        self._frame_cache.clear()
+
+    def _first_body_frame(self) -> str | None:
+        for f in self.model.frames:
+            if f.type == pin.FrameType.BODY:
+                return f.name
+        return None
+
+    def _require_model(self) -> None:
+        if self.model is None:
+            raise RuntimeError("no model loaded: call load_model_from_file() or load_model_from_string() first")
+
+    # ------------------------------------------------------------------ configuration
+    def set_base_frame(self, frame: str) -> None:
+        """Frame in which every pose, Jacobian and acceleration is expressed ('world' = inertial frame)."""
+        self._require_model()
+        fid = self.get_frame_id(frame)
+        self._base_frame = frame
+        self._base_fid = fid
+        # a frame rigidly attached to the world never moves: its transform is constant
+        self._base_static = (not self.floating_base) and (fid < 0 or self.model.frames[fid].parentJoint == 0)
+        self._base_is_world = fid < 0 or (self._base_static and self._frame_world_pose_static(fid) is None)
+        self._base_static_T = None if self._base_is_world else (
+            self._frame_world_pose_static(fid) if self._base_static else None)
+        self._frame_cache.clear()
+
+    def _frame_world_pose_static(self, fid: int):
+        """World pose of a frame attached to the universe joint, or None when it is the identity."""
+        T = self.model.frames[fid].placement.homogeneous
+        return None if np.allclose(T, np.eye(4)) else T
+
+    def get_base_frame(self) -> str:
+        return self._base_frame
+
+    def set_gravity(self, gravity) -> None:
+        self._require_model()
+        g = np.asarray(gravity, dtype=float).reshape(-1)
+        if g.shape != (3,) or not np.all(np.isfinite(g)):
+            raise ValueError(f"gravity must be a finite 3-vector, got {gravity!r}")
+        self.model.gravity.linear = g
+        self._gravity = g.copy()
+        self._stamp += 1
+
+    def get_gravity(self) -> np.ndarray:
+        return self._gravity.copy()
+
+    # ------------------------------------------------------------------ state
+    def set_robot_state(self, *args) -> None:
+        """``set_robot_state(q, v)`` for a fixed base, or
+        ``set_robot_state(world_H_base, q, base_twist_world, v, gravity)`` (also valid for a fixed base:
+        the base transform/twist are then ignored and only the gravity is applied)."""
+        self._require_model()
+        if len(args) == 2:
+            if self.floating_base:
+                raise ValueError("floating-base robot: use set_robot_state(world_H_base, q, base_twist, v, gravity)")
+            q, v = args
+        elif len(args) == 5:
+            T, q, twist, v, g = args
+            T = self._checked(T, (4, 4), "world_H_base")
+            twist = self._checked(twist, (6,), "base twist")
+            if not np.allclose(T[:3, :3] @ T[:3, :3].T, np.eye(3), atol=1e-6):
+                raise ValueError("world_H_base rotation block is not a rotation matrix")
+            if self.floating_base:
+                self._world_H_base[:] = T
+                self._base_twist_world[:] = twist
+            g = self._checked(g, (3,), "gravity")
+            if not np.array_equal(g, self._gravity):
+                self.set_gravity(g)
+        else:
+            raise TypeError("set_robot_state takes (q, v) or (world_H_base, q, base_twist, v, gravity)")
+        q = self._checked(q, (self.ndof,), "joint positions")
+        v = self._checked(v, (self.ndof,), "joint velocities")
+        self._q[:] = q
+        self._v[:] = v
+        model = self.model
+        if self._q_simple:
+            self._q_pin[model.nq - self.ndof:] = q
+        else:
+            for k, (iq, _, nq) in enumerate(self._q_map):
+                if nq == 1:
+                    self._q_pin[iq] = q[k]
+                else:
+                    self._q_pin[iq], self._q_pin[iq + 1] = np.cos(q[k]), np.sin(q[k])
+        self._v_pin[self.nbase:] = v
+        if self.floating_base:
+            R = self._world_H_base[:3, :3]
+            self._q_pin[:3] = self._world_H_base[:3, 3]
+            self._q_pin[3:7] = pin.Quaternion(R).coeffs()
+            self._v_pin[:3] = R.T @ self._base_twist_world[:3]
+            self._v_pin[3:6] = R.T @ self._base_twist_world[3:]
+        self._stamp += 1
+        self._initialized = True
+
+    def _checked(self, x, shape, what) -> np.ndarray:
+        a = np.asarray(x, dtype=float)
+        if a.shape != shape:
+            if a.size == int(np.prod(shape)) and len(shape) == 1:
+                a = a.reshape(shape)
+            else:
+                raise ValueError(f"{what}: expected shape {shape} for robot '{self.name}', got {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"{what}: contains NaN or infinite values: {a}")
+        return a
+
+    def is_initialized(self) -> bool:
+        return self._initialized
+
+    def _update_terms(self) -> None:
+        if not self._initialized:
+            raise RuntimeError(f"robot '{self.name}' has no state yet: call set_robot_state() first")
+        if self._terms_stamp != self._stamp:
+            pin.computeAllTerms(self.model, self.data, self._q_pin, self._v_pin)
+            self._terms_stamp = self._stamp
+
+    # ------------------------------------------------------------------ sizes and names
+    def get_nr_of_degrees_of_freedom(self) -> int:
+        self._require_model()
+        return self.ndof
+
+    def get_configuration_space_dimension(self) -> int:
+        """Size of the generalized velocity: ndof (+6 with a floating base)."""
+        self._require_model()
+        return self.model.nv
+
+    def is_floating_base(self) -> bool:
+        return self.floating_base
+
+    def get_joint_names(self) -> list[str]:
+        return list(self._joint_names)
+
+    def get_frame_names(self) -> list[str]:
+        return [f.name for f in self.model.frames]
+
+    def frame_exists(self, name: str) -> bool:
+        return name == WORLD_FRAME or (self.model is not None and self.model.existFrame(name))
+
+    def get_frame_id(self, name: str) -> int:
+        """Pinocchio frame id of a link/joint frame; -1 for 'world'. Raises on unknown names."""
+        self._require_model()
+        if name == WORLD_FRAME:
+            return -1
+        if not isinstance(name, str) or not self.model.existFrame(name):
+            known = sorted({f.name for f in self.model.frames if f.type == pin.FrameType.BODY})
+            raise ValueError(f"unknown frame '{name}' in robot '{self.name}'; known links: {known}")
+        return self.model.getFrameId(name)
+
+    # ------------------------------------------------------------------ limits from the URDF
+    def get_joint_position_limits(self):
+        return self._pos_limits[0].copy(), self._pos_limits[1].copy()
+
+    def get_joint_velocity_limits(self) -> np.ndarray:
+        return self._vel_limits.copy()
+
+    def get_joint_torque_limits(self) -> np.ndarray:
+        return self._trq_limits.copy()
+
+    # ------------------------------------------------------------------ state getters
+    def get_joint_positions(self) -> np.ndarray:
+        return self._q.copy()
+
+    def get_joint_velocities(self) -> np.ndarray:
+        return self._v.copy()
+
+    def get_world_to_base_transform(self) -> np.ndarray:
+        return self._world_H_base.copy()
+
+    def get_base_velocity(self) -> np.ndarray:
+        return self._base_twist_world.copy()
+
+    def get_generalized_velocity(self) -> np.ndarray:
+        """nu in the solver's convention (base twist in the base frame, then joint velocities)."""
+        return self._v_pin.copy()
+
+    # ------------------------------------------------------------------ dynamics
+    def get_mass_matrix(self) -> np.ndarray:
+        """Generalized mass matrix (nv x nv); a view valid until the next state change."""
+        self._update_terms()
+        return self.data.M
+
+    def get_generalized_gravity_and_coriolis_torques(self) -> np.ndarray:
+        self._update_terms()
+        return self.data.nle
+
+    def get_generalized_gravity_torques(self) -> np.ndarray:
+        if not self._initialized:
+            raise RuntimeError(f"robot '{self.name}' has no state yet: call set_robot_state() first")
+        if self._gravity_stamp != self._stamp:
+            self._g = pin.computeGeneralizedGravity(self.model, self.data, self._q_pin).copy()
+            self._gravity_stamp = self._stamp
+        return self._g
+
+    def get_joint_gravity_torques(self) -> np.ndarray:
+        return self.get_generalized_gravity_torques()[self.nbase:].copy()
+
+    def get_joint_gravity_and_coriolis_torques(self) -> np.ndarray:
+        return self.get_generalized_gravity_and_coriolis_torques()[self.nbase:].copy()
+
+    def get_joint_coriolis_torques(self) -> np.ndarray:
+        return (self.get_generalized_gravity_and_coriolis_torques()
+                - self.get_generalized_gravity_torques())[self.nbase:].copy()
+
+    # ------------------------------------------------------------------ frames (world aligned, cached)
+    def _world_frame_terms(self, fid: int):
+        """(world_H_frame, J, velocity, bias acceleration) in world axes; cached per state."""
+        hit = self._frame_cache.get(fid)
+        if hit is not None and hit[0] == self._stamp:
+            return hit[1]
+        self._update_terms()
+        m, d = self.model, self.data
+        T = pin.updateFramePlacement(m, d, fid).homogeneous
+        J = pin.getFrameJacobian(m, d, fid, _LWA)
+        vel = pin.getFrameVelocity(m, d, fid, _LWA).vector
+        acc = pin.getFrameClassicalAcceleration(m, d, fid, _LWA).vector
+        # Pinocchio spatial vectors are [linear; angular], as our Jacobians
+        terms = (T, J, vel, acc)
+        self._frame_cache[fid] = (self._stamp, terms)
+        return terms
+
+    def _base_terms(self):
+        if self._base_is_world:
+            return None
+        if self._base_static:
+            return self._base_static_T, None, None, None
+        return self._world_frame_terms(self._base_fid)
+
+    def frame_terms(self, frame_id: int):
+        """(pose 4x4, Jacobian 6xnv, velocity 6, bias acceleration 6) of a frame in the base frame."""
+        tip = self._world_frame_terms(frame_id)
+        base = self._base_terms()
+        if base is None:
+            return tip
+        Tb, Jb, vb, ab = base
+        Tf, Jf, vf, af = tip
+        if Jb is None:  # static base: pure rotation/translation of constant frame
+            Rbt = Tb[:3, :3].T
+            pose = fk.relative_pose(Tb, Tf)
+            J = np.vstack((Rbt @ Jf[:3], Rbt @ Jf[3:]))
+            return pose, J, np.concatenate((Rbt @ vf[:3], Rbt @ vf[3:])), np.concatenate((Rbt @ af[:3], Rbt @ af[3:]))
+        return (fk.relative_pose(Tb, Tf), fk.relative_jacobian(Tb, Jb, Tf, Jf), fk.relative_velocity(Tb, vb, Tf, vf),
+                fk.relative_bias_acceleration(Tb, vb, ab, Tf, vf, af))
+
+    def get_frame_pose(self, frame: str) -> np.ndarray:
+        """4x4 pose of ``frame`` in the base frame."""
+        return self.frame_terms(self.get_frame_id(frame))[0].copy()
+
+    def get_frame_jacobian(self, frame: str) -> np.ndarray:
+        return self.frame_terms(self.get_frame_id(frame))[1].copy()
+
+    def get_frame_velocity(self, frame: str) -> np.ndarray:
+        return self.frame_terms(self.get_frame_id(frame))[2].copy()
+
+    def get_frame_bias_acceleration(self, frame: str) -> np.ndarray:
+        """J_dot * nu of ``frame`` in the base frame (acceleration at zero generalized acceleration)."""
+        return self.frame_terms(self.get_frame_id(frame))[3].copy()
+
+    def _world_or_frame(self, frame: str):
+        fid = self.get_frame_id(frame)
+        if fid < 0:
+            nv = self.model.nv
+            return np.eye(4), np.zeros((6, nv)), np.zeros(6), np.zeros(6)
+        return self._world_frame_terms(fid)
+
+    def get_relative_transform(self, reference_frame: str, frame: str) -> np.ndarray:
+        """reference_H_frame."""
+        return fk.relative_pose(self._world_or_frame(reference_frame)[0], self._world_or_frame(frame)[0])
+
+    def get_relative_jacobian(self, reference_frame: str, frame: str) -> np.ndarray:
+        Tb, Jb, _, _ = self._world_or_frame(reference_frame)
+        Tf, Jf, _, _ = self._world_or_frame(frame)
+        return fk.relative_jacobian(Tb, Jb, Tf, Jf)
+
+    def get_relative_velocity(self, reference_frame: str, frame: str) -> np.ndarray:
+        Tb, _, vb, _ = self._world_or_frame(reference_frame)
+        Tf, _, vf, _ = self._world_or_frame(frame)
+        return fk.relative_velocity(Tb, vb, Tf, vf)
+
+    def get_relative_bias_acceleration(self, reference_frame: str, frame: str) -> np.ndarray:
+        Tb, _, vb, ab = self._world_or_frame(reference_frame)
+        Tf, _, vf, af = self._world_or_frame(frame)
+        return fk.relative_bias_acceleration(Tb, vb, ab, Tf, vf, af)
+
+    def print(self) -> None:
+        lo, hi = self._pos_limits
+        lines = [f"RobotModel '{self.name}' ({'floating' if self.floating_base else 'fixed'} base, "
+                 f"{self.ndof} dof, base frame '{self._base_frame}')"]
+        for k, n in enumerate(self._joint_names):
+            lines.append(f"  {n}: pos [{lo[k]:.3f}, {hi[k]:.3f}] vel {self._vel_limits[k]:.3f} "
+                         f"effort {self._trq_limits[k]:.1f}")
+        print("\n".join(lines))

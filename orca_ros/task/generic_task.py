@@ -1,0 +1,84 @@
+"""Weighted least-squares task  w * || diag(s) (E x - f) ||^2  on the reduced QP variables x."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..common.task_base import TaskBase
+
+
+class GenericTask(TaskBase):
+    def __init__(self, name: str):
+        super().__init__(name)
+        self.layout = None
+        self.weight = 1.0
+        self.level = 0
+        self._selection_request: np.ndarray | None = None
+        self.E = np.zeros((0, 0))
+        self.f = np.zeros(0)
+        self.selection = np.zeros(0)
+
+    # -------------------------------------------------------------- configuration
+    def rows(self) -> int:
+        """Number of rows of E for the current robot (subclasses)."""
+        raise NotImplementedError
+
+    def resize(self, layout) -> None:
+        self.layout = layout
+        m = self.rows()
+        self.E = np.zeros((m, layout.nx))
+        self.f = np.zeros(m)
+        self.selection = np.ones(m)
+        if self._selection_request is not None:
+            self.set_selection_vector(self._selection_request)
+
+    def set_weight(self, weight: float) -> None:
+        weight = float(weight)
+        if not (weight >= 0.0 and np.isfinite(weight)):
+            raise ValueError(f"task '{self.name}': weight must be finite and >= 0, got {weight}")
+        self.weight = weight
+
+    def get_weight(self) -> float:
+        return self.weight
+
+    def get_effective_weight(self) -> float:
+        """Weight times the activation ramp (what the solver uses this cycle)."""
+        return self.weight * self._ramp_factor if self.is_computing() else 0.0
+
+    def set_priority_level(self, level: int) -> None:
+        if int(level) < 0:
+            raise ValueError("priority level must be >= 0")
+        self.level = int(level)
+
+    def set_selection_vector(self, selection) -> None:
+        s = np.asarray(selection, dtype=float).reshape(-1)
+        if np.any(s < 0) or not np.all(np.isfinite(s)):
+            raise ValueError(f"task '{self.name}': selection vector entries must be finite and >= 0")
+        if self.layout is None:
+            self._selection_request = s
+            return
+        if s.shape != self.selection.shape:
+            raise ValueError(f"task '{self.name}': selection vector needs {self.selection.size} entries, got {s.size}")
+        self.selection[:] = s
+        self._selection_request = s
+
+    def get_selection_vector(self) -> np.ndarray:
+        return self.selection.copy()
+
+    def get_E(self) -> np.ndarray:
+        return self.E
+
+    def get_f(self) -> np.ndarray:
+        return self.f
+
+    def residual(self, x: np.ndarray) -> np.ndarray:
+        """diag(s) (E x - f) for a reduced solution x."""
+        return self.selection * (self.E @ x - self.f)
+
+    def _update(self, current_time: float, dt: float) -> None:
+        self._update_affine_function(current_time, dt)
+
+    def _update_affine_function(self, current_time: float, dt: float) -> None:
+        raise NotImplementedError
+
+    def describe(self) -> str:
+        return f"{super().describe()} weight {self.weight:g} level {self.level}"

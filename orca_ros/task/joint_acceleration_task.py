@@ -1,0 +1,80 @@
+"""Joint acceleration (posture) task: q_ddot = qdd_ref + P (q_ref - q) + I integral + D (qd_ref - qd)."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..servo.pid_controller import PIDController
+from .generic_task import GenericTask
+
+
+class JointAccelerationTask(GenericTask):
+    def __init__(self, name: str):
+        super().__init__(name)
+        self._pid = PIDController(0)
+        self._q_ref = np.zeros(0)
+        self._qd_ref = np.zeros(0)
+        self._qdd_ref = np.zeros(0)
+        self._has_desired = False
+        self._q_err = np.zeros(0)
+        self._qd_err = np.zeros(0)
+
+    def rows(self) -> int:
+        return self.layout.ndof
+
+    def set_robot_model(self, robot) -> None:
+        super().set_robot_model(robot)
+        n = robot.get_nr_of_degrees_of_freedom()
+        if self._pid.dimension != n:
+            gains = None
+            if self._pid.dimension:
+                gains = (self._pid.get_proportional_gain(), self._pid.get_derivative_gain())
+            self._pid.resize(n)
+            if gains is not None and gains[0].size == 1:
+                self._pid.set_proportional_gain(gains[0][0])
+                self._pid.set_derivative_gain(gains[1][0])
+        if self._q_ref.size != n:
+            self._q_ref, self._qd_ref, self._qdd_ref = np.zeros(n), np.zeros(n), np.zeros(n)
+            self._q_err, self._qd_err = np.zeros(n), np.zeros(n)
+
+    def resize(self, layout) -> None:
+        super().resize(layout)
+        self.E[:, layout.joint_acc] = np.eye(layout.ndof)
+
+    def pid(self) -> PIDController:
+        return self._pid
+
+    def set_desired(self, q, qd=None, qdd=None) -> None:
+        n = self._q_ref.size if self.robot is not None else np.asarray(q).size
+        vals = []
+        for what, x in (("position", q), ("velocity", qd), ("acceleration", qdd)):
+            a = np.zeros(n) if x is None else np.asarray(x, dtype=float).reshape(-1)
+            if a.shape != (n,) or not np.all(np.isfinite(a)):
+                raise ValueError(f"task '{self.name}': desired joint {what} must be {n} finite values")
+            vals.append(a)
+        if self.robot is None:
+            self._q_ref, self._qd_ref, self._qdd_ref = vals
+        else:
+            self._q_ref[:], self._qd_ref[:], self._qdd_ref[:] = vals
+        self._has_desired = True
+
+    def get_desired(self):
+        return self._q_ref.copy(), self._qd_ref.copy(), self._qdd_ref.copy()
+
+    def hold_current_position(self) -> None:
+        self.set_desired(self.robot.get_joint_positions())
+
+    def _on_activation(self) -> None:
+        if not self._has_desired and self.robot is not None and self.robot.is_initialized():
+            self.hold_current_position()
+
+    def get_position_error(self) -> np.ndarray:
+        return self._q_err.copy()
+
+    def _update_affine_function(self, current_time: float, dt: float) -> None:
+        robot = self.robot
+        if not self._has_desired:
+            self.hold_current_position()
+        np.subtract(self._q_ref, robot._q, out=self._q_err)
+        np.subtract(self._qd_ref, robot._v, out=self._qd_err)
+        cmd = self._pid.compute_command(self._q_err, self._qd_err, dt)
+        np.add(self._qdd_ref, cmd, out=self.f)

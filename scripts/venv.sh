@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Create (once) and refresh (when requirements.txt changes) the project's virtual environment in .venv,
+# then activate it. Sourced by run_demo.sh and run_tests.sh.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+VENV="${ORCA_VENV:-$ROOT/.venv}"
+PY="${PYTHON:-python3}"
+if [ ! -x "$VENV/bin/python" ]; then
+  "$PY" -m venv "$VENV"
+fi
+# shellcheck disable=SC1091
+source "$VENV/bin/activate"
+STAMP="$VENV/.orca_requirements.sha256"
+WANT="$(cat "$ROOT/requirements.txt" "$ROOT/setup.py" | sha256sum | cut -d' ' -f1)"
+if [ ! -f "$STAMP" ] || [ "$(cat "$STAMP")" != "$WANT" ]; then
+  python -m pip install --quiet --upgrade pip
+  python -m pip install --quiet -r "$ROOT/requirements.txt"
+  python -m pip install --quiet --no-deps --no-build-isolation -e "$ROOT"
+  echo "$WANT" > "$STAMP"
+fi
+cd "$ROOT"

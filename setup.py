@@ -1,0 +1,41 @@
+"""ament_python package: installs the Python package, the URDFs and YAML configs under share/orca_ros."""
+import glob
+import os
+
+from setuptools import find_packages, setup
+
+PACKAGE = "orca_ros"
+
+
+def data(pattern):
+    return [f for f in glob.glob(pattern) if os.path.isfile(f)]
+
+
+setup(
+    name=PACKAGE,
+    version="0.1.0",
+    packages=find_packages(include=[PACKAGE, f"{PACKAGE}.*"]),
+    data_files=[
+        ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
+        (f"share/{PACKAGE}", ["package.xml"]),
+        (f"share/{PACKAGE}/urdf", data("urdf/*")),
+        (f"share/{PACKAGE}/config", data("config/*")),
+    ],
+    install_requires=["setuptools"],
+    zip_safe=True,
+    maintainer="orca_ros developers",
+    maintainer_email="dev@orca-ros.invalid",
+    description="Whole-body reactive QP controller with ROS 2 nodes and a PyBullet bridge",
+    license="CECILL-C",
+    tests_require=["pytest"],
+    entry_points={
+        "console_scripts": [
+            "orca_simple_controller = orca_ros.examples.simple_controller:main",
+            "orca_simulating_results = orca_ros.examples.simulating_results:main",
+            "orca_using_callbacks = orca_ros.examples.using_callbacks:main",
+            "orca_using_lambda_callbacks = orca_ros.examples.using_lambda_callbacks:main",
+            "orca_plotting_torques = orca_ros.examples.plotting_torques:main",
+            "orca_main_job = orca_ros.examples.main_job:main",
+        ],
+    },
+)
