@@ -74,7 +74,7 @@ class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
         return self.robot.get_joint_position_limits()
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
-        h = self.horizon
+        h = max(self.horizon, dt)
         robot = self.robot
         pred = robot._q + h * robot._v
         k = 2.0 / (h * h)
@@ -84,15 +84,17 @@ class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
 
 
 class JointVelocityLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
-    def __init__(self, name: str, horizon: float | None = None):
+    def __init__(self, name: str, horizon: float = 0.01):
         super().__init__(name)
         self._limits = None
-        self.horizon = horizon  # None: one control period
+        self.set_horizon(horizon)
 
-    def set_horizon(self, horizon: float | None) -> None:
-        if horizon is not None and not horizon > 0.0:
-            raise ValueError(f"constraint '{self.name}': horizon must be > 0 s (or None for dt)")
-        self.horizon = horizon
+    def set_horizon(self, horizon: float) -> None:
+        """Time to reach the limit. Never shorter than the control period; a one-period horizon makes the
+        bound bang-bang (full stop in one cycle) and often incompatible with the torque limits."""
+        if not horizon > 0.0:
+            raise ValueError(f"constraint '{self.name}': horizon must be > 0 s")
+        self.horizon = float(horizon)
 
     def _default_limits(self):
         v = self.robot.get_joint_velocity_limits()
@@ -100,9 +102,7 @@ class JointVelocityLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
         return -v, v
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
-        h = self.horizon if self.horizon is not None else dt
-        if not h > 0.0:
-            h = 1e-3
+        h = max(self.horizon, dt)
         v = self.robot._v
         lo, hi = self._limits
         np.multiply(lo - v, 1.0 / h, out=self.lb)

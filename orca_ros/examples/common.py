@@ -1,0 +1,83 @@
+"""Shared set-up of the examples: argument parsing, the arm model, the usual constraints, a simulator step."""
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+
+from .. import (
+    CartesianAccelerationPID,
+    Controller,
+    JointPositionLimitConstraint,
+    JointTorqueLimitConstraint,
+    JointVelocityLimitConstraint,
+    Logger,
+    QPSolver,
+    ResolutionStrategy,
+    RobotModel,
+    RobotState,
+    default_urdf_path,
+)
+
+
+def parse_args(description: str, argv=None, extra=None):
+    """``example [urdf] [-l level] [--solver osqp|proxqp] + extra options``."""
+    rest = Logger.parse_argv(argv)
+    parser = argparse.ArgumentParser(description=description)
+    parser.add_argument("urdf", nargs="?", default=None, help="robot URDF (default: the shipped lwr.urdf)")
+    parser.add_argument("--solver", default="proxqp", choices=[s.value for s in QPSolver])
+    if extra is not None:
+        extra(parser)
+    args = parser.parse_args(rest)
+    if args.urdf is None:
+        args.urdf = default_urdf_path()
+    return args
+
+
+def make_robot(urdf: str):
+    """Arm model in its base frame, with gravity, at q = 0 / v = 0; returns (robot, state)."""
+    robot = RobotModel()
+    robot.load_model_from_file(urdf)
+    robot.set_base_frame("base_link")
+    robot.set_gravity(np.array([0.0, 0.0, -9.81]))
+    state = RobotState(robot.get_nr_of_degrees_of_freedom())
+    state.set_zero()
+    robot.set_robot_state(state.joint_pos, state.joint_vel)
+    return robot, state
+
+
+def make_controller(robot, solver: str = "proxqp") -> Controller:
+    return Controller("controller", robot, ResolutionStrategy.ONE_LEVEL_WEIGHTED, QPSolver.from_string(solver))
+
+
+def make_cartesian_servo(frame: str = "link_7", target=None) -> CartesianAccelerationPID:
+    """The reference examples' servo: P = 1000 (position) / 10 (orientation), D = 100 / 1."""
+    servo = CartesianAccelerationPID("servo_controller")
+    servo.pid().set_proportional_gain([1000, 1000, 1000, 10, 10, 10])
+    servo.pid().set_derivative_gain([100, 100, 100, 1, 1, 1])
+    servo.set_control_frame(frame)
+    if target is not None:
+        servo.set_desired(target, np.zeros(6), np.zeros(6))
+    return servo
+
+
+def add_standard_constraints(controller: Controller, torque_max: float = 200.0, velocity_max: float = 2.0):
+    """Torque limits +-200 Nm (clipped to the URDF's efforts), URDF position limits, velocity limits."""
+    n = controller.robot.get_nr_of_degrees_of_freedom()
+    trq = controller.add_constraint(JointTorqueLimitConstraint, "JointTorqueLimit")
+    urdf_effort = controller.robot.get_joint_torque_limits()
+    tmax = np.minimum(np.full(n, torque_max), np.where(urdf_effort > 0, urdf_effort, np.inf))
+    trq.set_limits(-tmax, tmax)
+    pos = controller.add_constraint(JointPositionLimitConstraint, "JointPositionLimit")
+    vel = controller.add_constraint(JointVelocityLimitConstraint, "JointVelocityLimit")
+    vmax = np.minimum(np.full(n, velocity_max), controller.robot.get_joint_velocity_limits())
+    vel.set_limits(-vmax, vmax)
+    return trq, pos, vel
+
+
+def integrate(robot, q: np.ndarray, v: np.ndarray, tau: np.ndarray, dt: float):
+    """One step of the rigid-body dynamics under torques tau (as the reference's second example)."""
+    acc = np.linalg.solve(robot.get_mass_matrix(), tau - robot.get_joint_gravity_and_coriolis_torques())
+    q_new = q + v * dt + 0.5 * acc * dt * dt
+    v_new = v + acc * dt
+    return q_new, v_new

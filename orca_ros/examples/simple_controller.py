@@ -1,0 +1,63 @@
+"""Minimal controller: one Cartesian task on link_7 and the usual joint limits, solved for 2 s of control
+cycles at a constant state (no robot is moved), then a ramped shutdown."""
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from .. import CartesianTask, get_logger, make_transform, quat_from_kuka_convention, quat_from_rpy
+from .common import add_standard_constraints, make_cartesian_servo, make_controller, make_robot, parse_args
+
+_LOG = get_logger("examples.simple_controller")
+
+
+def run(urdf: str, solver: str = "proxqp", duration: float = 2.0, dt: float = 0.001):
+    robot, state = make_robot(urdf)
+    controller = make_controller(robot, solver)
+    # the desired orientation can be written in several equivalent ways
+    R = quat_from_rpy(0, 0, 0).toRotationMatrix()
+    assert np.allclose(R, quat_from_kuka_convention(0, 0, 0).toRotationMatrix())
+    target = make_transform([1.0, 0.75, 0.5], R)
+    cart_task = controller.add_task(CartesianTask, "CartTask_EE")
+    cart_task.set_servo_controller(make_cartesian_servo("link_7", target))
+    add_standard_constraints(controller)
+    controller.activate_tasks_and_constraints()
+    t, solved, cycles = 0.0, 0, 0
+    while t < duration:
+        robot.set_robot_state(state.joint_pos, state.joint_vel)  # a real robot's measurements go here
+        cycles += 1
+        if controller.update(t, dt):
+            solved += 1
+        else:
+            _LOG.warning("no solution at t=%.3f (%s): a real robot would brake here", t,
+                         controller.get_return_code().value)
+        t += dt
+    result = {
+        "cycles": cycles,
+        "solved": solved,
+        "full_solution": controller.get_solution(),
+        "torque": controller.get_joint_torque_command(),
+        "acceleration": controller.get_joint_acceleration_command(),
+    }
+    controller.deactivate_tasks_and_constraints()
+    while not controller.tasks_and_constraints_deactivated():
+        t += dt
+        controller.update(t, dt)
+    result["deactivated"] = controller.tasks_and_constraints_deactivated()
+    return result
+
+
+def main(argv=None) -> int:
+    args = parse_args(__doc__, argv)
+    res = run(args.urdf, args.solver)
+    with np.printoptions(precision=4, suppress=True):
+        print(f"solved {res['solved']}/{res['cycles']} cycles")
+        print("Full solution              :", res["full_solution"])
+        print("Joint acceleration command :", res["acceleration"])
+        print("Joint torque command       :", res["torque"])
+    return 0 if res["solved"] == res["cycles"] and res["deactivated"] else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
