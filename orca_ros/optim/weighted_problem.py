@@ -111,7 +111,8 @@ class WeightedProblem:
     # -------------------------------------------------------------- solve
     def solve(self) -> ReturnCode:
         check = self.H.sum() + self.g.sum() + self.A.sum() + self.b.sum() + self.C.sum()
-        if not np.isfinite(check) or np.isnan(self.l.sum() + self.u.sum() + self.lbox.sum() + self.ubox.sum()):
+        # l - u and lbox - ubox are finite or -inf for valid bounds: NaN only if a bound is NaN
+        if not np.isfinite(check) or np.isnan((self.l - self.u).sum() + (self.lbox - self.ubox).sum()):
             self.return_code = ReturnCode.NON_FINITE_PROBLEM
             return self.return_code
         code = self.backend.solve(self.H, self.g, self.A, self.b, self.C, self.l, self.u, self.lbox, self.ubox)

@@ -1,0 +1,83 @@
+"""Plotting: run the controller for 1 s on the simulated arm and plot the joint torques (PNG; a window only
+with --show)."""
+from __future__ import annotations
+
+import os
+import sys
+
+import numpy as np
+
+from .. import CartesianTask, make_transform, quat_from_rpy
+from .common import (
+    add_standard_constraints,
+    integrate,
+    make_cartesian_servo,
+    make_controller,
+    make_robot,
+    parse_args,
+)
+
+
+def run(urdf: str, solver: str = "proxqp", total_time: float = 1.0, dt: float = 0.001,
+        output: str = "plotting_torques.png", show: bool = False):
+    robot, state = make_robot(urdf)
+    controller = make_controller(robot, solver)
+    target = make_transform([0.3, -0.5, 0.41], quat_from_rpy(np.pi, 0, 0))
+    controller.add_task(CartesianTask, "CartTask_EE").set_servo_controller(make_cartesian_servo("link_7", target))
+    trq, _, _ = add_standard_constraints(controller)
+    controller.activate_tasks_and_constraints()
+    q, v = state.joint_pos.copy(), state.joint_vel.copy()
+    times, torques = [], []
+    t = 0.0
+    for _ in range(int(round(total_time / dt))):
+        robot.set_robot_state(q, v)
+        if controller.update(t, dt):
+            tau = controller.get_joint_torque_command()
+        else:  # no solution: hold with the equality-only fallback
+            tau = controller.compute_kkt_torques()
+        times.append(t)
+        torques.append(tau.copy())
+        q, v = integrate(robot, q, v, tau, dt)
+        t += dt
+    controller.deactivate_tasks_and_constraints()
+    while not controller.tasks_and_constraints_deactivated():
+        t += dt
+        controller.update(t, dt)
+    torques = np.array(torques)
+
+    import matplotlib
+
+    if not show:
+        matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(9, 5))
+    for j, name in enumerate(robot.get_joint_names()):
+        ax.plot(times, torques[:, j], label=name)
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("joint torque [Nm]")
+    ax.set_title("Joint torques, Cartesian task on link_7")
+    ax.grid(True)
+    ax.legend(loc="upper right", ncol=2)
+    fig.tight_layout()
+    os.makedirs(os.path.dirname(os.path.abspath(output)), exist_ok=True)
+    fig.savefig(output, dpi=100)
+    if show:
+        plt.show()
+    plt.close(fig)
+    return {"times": np.array(times), "torques": torques, "output": output, "tau_max": trq.get_limits()[1]}
+
+
+def main(argv=None) -> int:
+    def extra(p):
+        p.add_argument("--output", default="plotting_torques.png")
+        p.add_argument("--show", action="store_true", help="also open a plot window")
+
+    args = parse_args(__doc__, argv, extra)
+    res = run(args.urdf, args.solver, output=args.output, show=args.show)
+    print(f"wrote {res['output']} ({len(res['times'])} samples)")
+    return 0 if os.path.isfile(res["output"]) and np.all(np.isfinite(res["torques"])) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
