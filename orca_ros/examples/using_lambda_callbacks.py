@@ -98,7 +98,7 @@ def main(argv=None) -> int:
     args = parse_args(__doc__, argv, lambda p: p.add_argument("--duration", type=float, default=5.0))
     res = run(args.urdf, args.solver, duration=args.duration)
     print(f"{res['loops']} trajectory segments in {res['time']:.2f} s; tracking error "
-          f"max {res["max_tracking_error"] * 1e3:.4f} mm, rms {res["rms_tracking_error"] * 1e3:.4f} mm")
+          f"max {res['max_tracking_error'] * 1e3:.4f} mm, rms {res['rms_tracking_error'] * 1e3:.4f} mm")
     return 0 if res["ok"] and res["max_tracking_error"] < 1e-3 else 1
 
 
