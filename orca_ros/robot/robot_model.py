@@ -218,6 +218,7 @@ class RobotModel:
 
     def _update_terms(self) -> None:
         if not self._initialized:
+            self._require_model()
             raise RuntimeError(f"robot '{self.name}' has no state yet: call set_robot_state() first")
         if self._terms_stamp != self._stamp:
             pin.computeAllTerms(self.model, self.data, self._q_pin, self._v_pin)
@@ -294,6 +295,7 @@ class RobotModel:
 
     def get_generalized_gravity_torques(self) -> np.ndarray:
         if not self._initialized:
+            self._require_model()
             raise RuntimeError(f"robot '{self.name}' has no state yet: call set_robot_state() first")
         if self._gravity_stamp != self._stamp:
             self._g = pin.computeGeneralizedGravity(self.model, self.data, self._q_pin).copy()

@@ -83,7 +83,7 @@ class OSQPBackend(QPBackend):
                 self._solver = s
             else:
                 self._solver.update(q=g, l=lo, u=hi, Px=Px, Ax=Ax)
-            res = self._solver.solve()
+            res = self._solver.solve(raise_error=False)
         except Exception:
             self._solver = None
             return ReturnCode.SOLVER_ERROR
