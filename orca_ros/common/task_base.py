@@ -29,6 +29,7 @@ class ActivationState(Enum):
 
 
 _INACTIVE = (ActivationState.INIT, ActivationState.DEACTIVATED)
+_SNAP = 1e-9  # accumulated time steps rarely land exactly on the ramp's end
 
 
 class TaskBase:
@@ -128,7 +129,8 @@ class TaskBase:
             if self._ramp_t0 is None:
                 self._ramp_t0 = t
             T = self.ramp_duration
-            x = 1.0 if T <= 0.0 else min(1.0, self._ramp_x0 + (t - self._ramp_t0) / T)
+            x = 1.0 if T <= 0.0 else self._ramp_x0 + (t - self._ramp_t0) / T
+            x = 1.0 if x >= 1.0 - _SNAP else x
             self._ramp_x = x
             self._ramp_factor = smooth_ramp(x)
             if x >= 1.0:
@@ -139,7 +141,8 @@ class TaskBase:
             if self._ramp_t0 is None:
                 self._ramp_t0 = t
             T = self.ramp_duration
-            x = 0.0 if T <= 0.0 else max(0.0, self._ramp_x0 - (t - self._ramp_t0) / T)
+            x = 0.0 if T <= 0.0 else self._ramp_x0 - (t - self._ramp_t0) / T
+            x = 0.0 if x <= _SNAP else x
             self._ramp_x = x
             self._ramp_factor = smooth_ramp(x)
             if x <= 0.0:

@@ -23,16 +23,15 @@ def run(urdf: str, solver: str = "proxqp", duration: float = 2.0, dt: float = 0.
     cart_task.set_servo_controller(make_cartesian_servo("link_7", target))
     add_standard_constraints(controller)
     controller.activate_tasks_and_constraints()
-    t, solved, cycles = 0.0, 0, 0
-    while t < duration:
+    solved, cycles = 0, int(round(duration / dt))
+    for k in range(cycles):
+        t = k * dt
         robot.set_robot_state(state.joint_pos, state.joint_vel)  # a real robot's measurements go here
-        cycles += 1
         if controller.update(t, dt):
             solved += 1
         else:
             _LOG.warning("no solution at t=%.3f (%s): a real robot would brake here", t,
                          controller.get_return_code().value)
-        t += dt
     result = {
         "cycles": cycles,
         "solved": solved,
