@@ -146,6 +146,8 @@ class Controller:
 
     def _configure(self) -> None:
         self._problems = [WeightedProblem(self.layout, self._tasks, self._constraints, self.solver, level=0)]
+        # objects without rows for this robot have nothing to compute
+        self._updated = [o for o in self._tasks + self._constraints if o.rows() > 0]
         self._dirty = False
 
     def get_problem_at_level(self, level: int = 0) -> WeightedProblem:
@@ -172,10 +174,8 @@ class Controller:
         if self._dirty:
             self._configure()
         self.layout.update()
-        for t in self._tasks:
-            t.update(current_time, dt)
-        for c in self._constraints:
-            c.update(current_time, dt)
+        for obj in self._updated:
+            obj.update(current_time, dt)
         problem = self._problems[0]
         problem.build()
         code = problem.solve()

@@ -20,6 +20,9 @@ class WeightedProblem:
         self.tasks = list(tasks)
         self.solver_type = solver
         nx = layout.nx
+        # constraints without rows for this robot (e.g. the dynamics' floating-base rows on a fixed base)
+        # cost nothing at run time
+        constraints = [c for c in constraints if c.rows() > 0]
         self.eq = [c for c in constraints if c.kind == "equality"]
         self.ineq = [c for c in constraints if c.kind == "inequality"]
         self.soft_box = [c for c in constraints if c.kind == "box" and not c.hard]
@@ -58,9 +61,15 @@ class WeightedProblem:
         H, g = self.H, self.g
         H.fill(0.0)
         g.fill(0.0)
+        diag = H.reshape(-1)[:: H.shape[0] + 1]  # view on the diagonal
         for t in self.tasks:
             w = t.get_effective_weight()
             if w <= 0.0:
+                continue
+            if t.identity_E:  # E = I: no product needed
+                ws = w * t.selection
+                diag += ws
+                g -= ws * t.f
                 continue
             Ews = t.E.T * (w * t.selection)
             H += Ews @ t.E
@@ -110,9 +119,9 @@ class WeightedProblem:
 
     # -------------------------------------------------------------- solve
     def solve(self) -> ReturnCode:
-        check = self.H.sum() + self.g.sum() + self.A.sum() + self.b.sum() + self.C.sum()
-        # l - u and lbox - ubox are finite or -inf for valid bounds: NaN only if a bound is NaN
-        if not np.isfinite(check) or np.isnan((self.l - self.u).sum() + (self.lbox - self.ubox).sum()):
+        # states, targets, gains and limits are validated where they enter; the matrices built from them
+        # are finite unless a task computed garbage, which shows in the cost
+        if not np.isfinite(self.H.sum() + self.g.sum()):
             self.return_code = ReturnCode.NON_FINITE_PROBLEM
             return self.return_code
         code = self.backend.solve(self.H, self.g, self.A, self.b, self.C, self.l, self.u, self.lbox, self.ubox)

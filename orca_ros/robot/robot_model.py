@@ -13,6 +13,7 @@ Conventions
 """
 from __future__ import annotations
 
+import math
 import os
 
 import numpy as np
@@ -209,7 +210,7 @@ class RobotModel:
                 a = a.reshape(shape)
             else:
                 raise ValueError(f"{what}: expected shape {shape} for robot '{self.name}', got {a.shape}")
-        if not np.all(np.isfinite(a)):
+        if not math.isfinite(float(a.reshape(-1) @ a.reshape(-1))):  # one BLAS call; NaN/inf propagate
             raise ValueError(f"{what}: contains NaN or infinite values: {a}")
         return a
 

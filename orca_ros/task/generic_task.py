@@ -7,6 +7,8 @@ from ..common.task_base import TaskBase
 
 
 class GenericTask(TaskBase):
+    identity_E = False  # E is the identity (the problem then skips the product E^T E)
+
     def __init__(self, name: str):
         super().__init__(name)
         self.layout = None

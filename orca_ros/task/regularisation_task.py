@@ -12,6 +12,7 @@ from .generic_task import GenericTask
 
 
 class RegularisationTask(GenericTask):
+    identity_E = True
     def __init__(self, name: str = "GlobalRegularisation", weight: float = 1e-4, damping: float = 1.0):
         super().__init__(name)
         self.set_weight(weight)

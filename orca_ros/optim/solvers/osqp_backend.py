@@ -6,6 +6,8 @@ Polishing is on, so a solved problem is returned at active-set accuracy (it agre
 """
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import osqp
 import scipy.sparse as sp
@@ -13,6 +15,20 @@ import scipy.sparse as sp
 from .base import QPBackend, ReturnCode
 
 _INF = 1e30
+
+
+class _Discard:
+    """Swallows text: OSQP 1.x prints 'Polishing not needed ...' through Python's stdout even when
+    verbose is off; the control loop must not write to stdout every cycle."""
+
+    def write(self, text):
+        return len(text)
+
+    def flush(self):
+        pass
+
+
+_DISCARD = _Discard()
 
 
 class OSQPBackend(QPBackend):
@@ -83,7 +99,11 @@ class OSQPBackend(QPBackend):
                 self._solver = s
             else:
                 self._solver.update(q=g, l=lo, u=hi, Px=Px, Ax=Ax)
-            res = self._solver.solve(raise_error=False)
+            saved, sys.stdout = sys.stdout, _DISCARD
+            try:
+                res = self._solver.solve(raise_error=False)
+            finally:
+                sys.stdout = saved
         except Exception:
             self._solver = None
             return ReturnCode.SOLVER_ERROR
