@@ -71,39 +71,31 @@ class Controller:
         obj.set_robot_model(self.robot)
         obj.resize(self.layout)
 
-    def _check_name(self, name: str) -> None:
-        if any(o.name == name for o in self._tasks + self._constraints):
-            raise ValueError(f"controller '{self.name}': a task or constraint named '{name}' already exists")
+    def _add(self, obj, name, base, what: str, into: list):
+        """Instantiate ``obj`` from its class and ``name`` if needed, check it and attach it to the robot."""
+        if isinstance(obj, type):
+            if name is None:
+                raise ValueError(f"add_{what}({obj.__name__}, name): a name is needed to build the {what}")
+            obj = obj(name)
+        if not isinstance(obj, base):
+            raise TypeError(f"add_{what} expects a {what}, got {type(obj).__name__}")
+        if any(o.name == obj.name for o in self._tasks + self._constraints):
+            raise ValueError(f"controller '{self.name}': a task or constraint named '{obj.name}' already exists")
+        self._attach(obj)
+        into.append(obj)
+        self._dirty = True
+        return obj
 
     def add_task(self, task, name: str | None = None, level: int | None = None):
         """Add a task instance, or build one from its class and name. Returns the task."""
-        if isinstance(task, type):
-            if name is None:
-                raise ValueError("add_task(TaskClass, name): a name is needed to build the task")
-            task = task(name)
-        if not isinstance(task, GenericTask):
-            raise TypeError(f"add_task expects a task, got {type(task).__name__}")
-        self._check_name(task.name)
+        task = self._add(task, name, GenericTask, "task", self._tasks)
         if level is not None:
             task.set_priority_level(level)
-        self._attach(task)
-        self._tasks.append(task)
-        self._dirty = True
         return task
 
     def add_constraint(self, constraint, name: str | None = None):
         """Add a constraint instance, or build one from its class and name. Returns the constraint."""
-        if isinstance(constraint, type):
-            if name is None:
-                raise ValueError("add_constraint(ConstraintClass, name): a name is needed")
-            constraint = constraint(name)
-        if not isinstance(constraint, GenericConstraint):
-            raise TypeError(f"add_constraint expects a constraint, got {type(constraint).__name__}")
-        self._check_name(constraint.name)
-        self._attach(constraint)
-        self._constraints.append(constraint)
-        self._dirty = True
-        return constraint
+        return self._add(constraint, name, GenericConstraint, "constraint", self._constraints)
 
     def remove_task(self, name: str) -> None:
         self._tasks.remove(self.get_task(name))
