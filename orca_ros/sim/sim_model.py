@@ -1,0 +1,175 @@
+"""One robot in the PyBullet world, with the API of the reference's Gazebo model.
+
+PyBullet traps handled here:
+* every joint starts with a velocity motor holding it still: they are switched off (zero force) so that
+  torque control works;
+* torque commands are forgotten after each step: the command is re-applied before every step;
+* the "applied" torque PyBullet reports in torque mode is zero: the measured effort is the command applied;
+* base position/velocity are those of the base's centre of mass: they are moved to the URDF link frame;
+* the URDF's inertias are used (PyBullet recomputes them from collision shapes unless told otherwise), and
+  PyBullet's default link damping is removed, so the simulated dynamics match the controller's model.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+import pybullet
+
+
+def _rot(quat_xyzw) -> np.ndarray:
+    return np.array(pybullet.getMatrixFromQuaternion(quat_xyzw)).reshape(3, 3)
+
+
+class SimModel:
+    def __init__(self, server, urdf_path, position, orientation, name, fixed_base):
+        self.server = server
+        c = self.client = server.client
+        self.fixed_base = bool(fixed_base)
+        flags = pybullet.URDF_USE_INERTIA_FROM_FILE
+        self.body = c.loadURDF(urdf_path, basePosition=list(position), baseOrientation=list(orientation),
+                               useFixedBase=self.fixed_base, flags=flags)
+        self.name = name or c.getBodyInfo(self.body)[1].decode()
+        self.urdf_path = urdf_path
+        self._joint_ids, self._joint_names, self._effort = [], [], []
+        for j in range(c.getNumJoints(self.body)):
+            info = c.getJointInfo(self.body, j)
+            if info[2] in (pybullet.JOINT_REVOLUTE, pybullet.JOINT_PRISMATIC):
+                self._joint_ids.append(j)
+                self._joint_names.append(info[1].decode())
+                self._effort.append(info[10])
+        self.ndof = len(self._joint_ids)
+        for link in range(-1, c.getNumJoints(self.body)):
+            c.changeDynamics(self.body, link, linearDamping=0.0, angularDamping=0.0, jointDamping=0.0)
+        c.setJointMotorControlArray(self.body, self._joint_ids, pybullet.VELOCITY_CONTROL,
+                                    forces=[0.0] * self.ndof)
+        dyn = c.getDynamicsInfo(self.body, -1)
+        self._base_com_pos = np.array(dyn[3])   # inertial frame in the link frame
+        self._base_com_orn = np.array(dyn[4])
+        self._cmd = np.zeros(self.ndof)
+        self._gravity_torques = np.zeros(self.ndof)
+        self._applied = np.zeros(self.ndof)
+        self._brakes = False
+        self._callbacks: list[Callable[[int, float, float], None]] = []
+        self._q = np.zeros(self.ndof)
+        self._v = np.zeros(self.ndof)
+        self._read_joints()
+
+    # -------------------------------------------------------------- names and configuration
+    def get_name(self) -> str:
+        return self.name
+
+    def get_joint_names(self) -> list[str]:
+        return list(self._joint_names)
+
+    def get_nr_of_degrees_of_freedom(self) -> int:
+        return self.ndof
+
+    def _indices(self, names):
+        idx = []
+        for n in names:
+            if n not in self._joint_names:
+                raise ValueError(f"model '{self.name}' has no joint '{n}' (joints: {self._joint_names})")
+            idx.append(self._joint_names.index(n))
+        return idx
+
+    def set_model_configuration(self, joint_names, joint_positions) -> None:
+        """Teleport the named joints to the given positions (zero velocity)."""
+        vals = np.asarray(joint_positions, dtype=float).reshape(-1)
+        if len(joint_names) != vals.size:
+            raise ValueError(f"{len(joint_names)} joint names but {vals.size} positions")
+        for k, val in zip(self._indices(joint_names), vals):
+            self.client.resetJointState(self.body, self._joint_ids[k], float(val), 0.0)
+        self._read_joints()
+
+    def set_base_pose(self, position, orientation_xyzw=(0, 0, 0, 1)) -> None:
+        """Teleport the base (URDF link frame) for floating-base models."""
+        R = _rot(orientation_xyzw)
+        com = np.asarray(position, dtype=float) + R @ self._base_com_pos
+        _, com_orn = pybullet.multiplyTransforms([0, 0, 0], orientation_xyzw, [0, 0, 0], self._base_com_orn)
+        self.client.resetBasePositionAndOrientation(self.body, com.tolist(), com_orn)
+
+    def execute_after_world_update(self, cb: Callable[[int, float, float], None]) -> None:
+        self._callbacks.append(cb)
+
+    # -------------------------------------------------------------- commands
+    def set_joint_torque_command(self, torques) -> None:
+        tau = np.asarray(torques, dtype=float).reshape(-1)
+        if tau.shape != (self.ndof,):
+            raise ValueError(f"model '{self.name}': torque command needs {self.ndof} values, got {tau.size}")
+        if not np.all(np.isfinite(tau)):
+            raise ValueError(f"model '{self.name}': torque command contains NaN/inf")
+        self._cmd[:] = tau
+
+    def set_joint_gravity_torques(self, torques) -> None:
+        """Torques added to every command, as drives with built-in gravity compensation would."""
+        g = np.asarray(torques, dtype=float).reshape(-1)
+        if g.shape != (self.ndof,) or not np.all(np.isfinite(g)):
+            raise ValueError(f"model '{self.name}': gravity torques need {self.ndof} finite values")
+        self._gravity_torques[:] = g
+
+    def set_brakes(self, on: bool = True) -> None:
+        """Brakes hold the joints (velocity servo to zero with the joints' effort limits); commands ignored."""
+        self._brakes = bool(on)
+        if not on:
+            self.client.setJointMotorControlArray(self.body, self._joint_ids, pybullet.VELOCITY_CONTROL,
+                                                  forces=[0.0] * self.ndof)
+
+    def _apply_commands(self) -> None:
+        if self._brakes:
+            forces = [e if e > 0 else 1e3 for e in self._effort]
+            self.client.setJointMotorControlArray(self.body, self._joint_ids, pybullet.VELOCITY_CONTROL,
+                                                  targetVelocities=[0.0] * self.ndof, forces=forces)
+            self._applied[:] = 0.0
+            return
+        np.add(self._cmd, self._gravity_torques, out=self._applied)
+        self.client.setJointMotorControlArray(self.body, self._joint_ids, pybullet.TORQUE_CONTROL,
+                                              forces=self._applied.tolist())
+
+    def _read_joints(self) -> None:
+        states = self.client.getJointStates(self.body, self._joint_ids)
+        for k, s in enumerate(states):
+            self._q[k] = s[0]
+            self._v[k] = s[1]
+
+    def _after_step(self, n: int, t: float, dt: float) -> None:
+        self._read_joints()
+        for cb in self._callbacks:
+            cb(n, t, dt)
+
+    # -------------------------------------------------------------- measurements
+    def get_joint_positions(self) -> np.ndarray:
+        return self._q.copy()
+
+    def get_joint_velocities(self) -> np.ndarray:
+        return self._v.copy()
+
+    def get_joint_measured_torques(self) -> np.ndarray:
+        """Torque the drives applied during the last step (command + emulated gravity compensation)."""
+        return self._applied.copy()
+
+    def get_joint_external_torques(self) -> np.ndarray:
+        """Not measured by this simulator: zeros (no joint torque sensors are emulated)."""
+        return np.zeros(self.ndof)
+
+    def get_world_to_base_transform(self) -> np.ndarray:
+        """4x4 pose of the URDF base link frame in the world."""
+        com, orn = self.client.getBasePositionAndOrientation(self.body)
+        inv_pos, inv_orn = pybullet.invertTransform(self._base_com_pos.tolist(), self._base_com_orn.tolist())
+        pos, orn_link = pybullet.multiplyTransforms(com, orn, inv_pos, inv_orn)
+        T = np.eye(4)
+        T[:3, :3] = _rot(orn_link)
+        T[:3, 3] = pos
+        return T
+
+    def get_base_velocity(self) -> np.ndarray:
+        """Twist of the base link frame origin, world axes: [linear, angular]."""
+        lin, ang = self.client.getBaseVelocity(self.body)
+        lin, ang = np.array(lin), np.array(ang)
+        T = self.get_world_to_base_transform()
+        com, _ = self.client.getBasePositionAndOrientation(self.body)
+        r = T[:3, 3] - np.array(com)  # from the centre of mass to the link origin
+        return np.concatenate((lin + np.cross(ang, r), ang))
+
+    def get_gravity(self) -> np.ndarray:
+        return self.server.gravity.copy()

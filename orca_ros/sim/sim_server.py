@@ -1,0 +1,93 @@
+"""PyBullet world standing in for the robot hardware (the reference's Gazebo server, on PyBullet).
+
+DIRECT (headless) by default, GUI on request; fixed time step; gravity; optional ground plane; ``step()`` /
+``run()`` call every model's after-step callbacks with (iteration, time, dt).
+"""
+from __future__ import annotations
+
+import time
+from typing import Callable
+
+import numpy as np
+import pybullet
+import pybullet_data
+from pybullet_utils import bullet_client
+
+from .sim_model import SimModel
+
+
+class SimServer:
+    def __init__(self, gui: bool = False, time_step: float = 0.001, gravity=(0.0, 0.0, -9.81),
+                 ground_plane: bool = True):
+        if not time_step > 0.0:
+            raise ValueError(f"time step must be > 0 s, got {time_step}")
+        self.client = bullet_client.BulletClient(connection_mode=pybullet.GUI if gui else pybullet.DIRECT)
+        self.gui = gui
+        self.time_step = float(time_step)
+        self.client.setAdditionalSearchPath(pybullet_data.getDataPath())
+        self.client.setPhysicsEngineParameter(fixedTimeStep=self.time_step, numSubSteps=0)
+        self.set_gravity(gravity)
+        self.plane_id = self.client.loadURDF("plane.urdf") if ground_plane else None
+        self.models: list[SimModel] = []
+        self.iteration = 0
+        self.sim_time = 0.0
+        self._callbacks: list[Callable[[int, float, float], None]] = []
+
+    def set_gravity(self, gravity) -> None:
+        g = np.asarray(gravity, dtype=float).reshape(3)
+        self.gravity = g
+        self.client.setGravity(*g)
+
+    def get_time(self) -> float:
+        return self.sim_time
+
+    def get_iteration(self) -> int:
+        return self.iteration
+
+    def insert_model_from_urdf_file(self, urdf_path: str, position=(0.0, 0.0, 0.0),
+                                    orientation=(0.0, 0.0, 0.0, 1.0), name: str = "",
+                                    fixed_base: bool = True) -> SimModel:
+        """Load a URDF; orientation is a quaternion (x, y, z, w)."""
+        model = SimModel(self, urdf_path, position, orientation, name, fixed_base)
+        self.models.append(model)
+        return model
+
+    def execute_after_world_update(self, cb: Callable[[int, float, float], None]) -> None:
+        self._callbacks.append(cb)
+
+    def step(self, n: int = 1) -> None:
+        dt = self.time_step
+        for _ in range(n):
+            for m in self.models:
+                m._apply_commands()
+            self.client.stepSimulation()
+            self.iteration += 1
+            self.sim_time = self.iteration * dt
+            for m in self.models:
+                m._after_step(self.iteration, self.sim_time, dt)
+            for cb in self._callbacks:
+                cb(self.iteration, self.sim_time, dt)
+
+    def run(self, duration: float | None = None, real_time: bool = False,
+            should_stop: Callable[[], bool] | None = None) -> None:
+        """Step until ``duration`` simulated seconds passed (forever if None) or ``should_stop()``."""
+        end = None if duration is None else self.sim_time + duration
+        t_wall0, t_sim0 = time.perf_counter(), self.sim_time
+        while (end is None or self.sim_time < end - 1e-12) and not (should_stop and should_stop()):
+            self.step()
+            if real_time:
+                ahead = (self.sim_time - t_sim0) - (time.perf_counter() - t_wall0)
+                if ahead > 0:
+                    time.sleep(ahead)
+
+    def shutdown(self) -> None:
+        try:
+            self.client.disconnect()
+        except pybullet.error:
+            pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.shutdown()
