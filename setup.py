@@ -36,6 +36,8 @@ setup(
             "orca_using_lambda_callbacks = orca_ros.examples.using_lambda_callbacks:main",
             "orca_plotting_torques = orca_ros.examples.plotting_torques:main",
             "orca_main_job = orca_ros.examples.main_job:main",
+            "orca_controller = orca_ros.ros.controller_node:main",
+            "pybullet_bridge = orca_ros.ros.pybullet_bridge:main",
         ],
     },
 )

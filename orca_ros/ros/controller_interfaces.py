@@ -1,0 +1,213 @@
+"""The controller node's task targets, services, feedback and diagnostics (mixed into the node).
+
+Per task ``<name>``: ``~/tasks/<name>/target_pose`` (geometry_msgs/PoseStamped; frame_id = any model link,
+empty = the base frame) for Cartesian tasks, ``~/tasks/<name>/target`` (sensor_msgs/JointState) for joint
+tasks, ``~/tasks/<name>/set_active`` (std_srvs/SetBool, ramped), and the feedback ``~/tasks/<name>/current_pose``
+(PoseStamped) and ``~/tasks/<name>/error`` (Float64MultiArray: pose error [linear, angular] or joint error).
+Node services: ``~/activate`` / ``~/deactivate`` (Trigger: every task and constraint, ramped),
+``~/enable`` (SetBool: false = hold with the safe command), ``~/reset_targets`` (Trigger: targets := current
+state). ``/diagnostics``: solver status, solve time, loop period and jitter, active tasks.
+"""
+from __future__ import annotations
+
+import numpy as np
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from geometry_msgs.msg import PoseStamped
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64MultiArray
+from std_srvs.srv import SetBool, Trigger
+
+from ..task import CartesianTask, JointAccelerationTask, JointTorqueTask
+from .common import DEFAULT_QOS, matrix_to_pose, pose_to_matrix
+
+
+class ControllerInterfaces:
+    def setup_interfaces(self, diagnostics_rate: float, feedback_rate: float) -> None:
+        self._target_time: dict[str, float] = {}
+        self._feedback_pubs = {}
+        for name, task in self.setup.tasks.items():
+            base = f"~/tasks/{name}"
+            if isinstance(task, CartesianTask):
+                self.create_subscription(PoseStamped, f"{base}/target_pose",
+                                         lambda m, n=name: self._on_target_pose(n, m), DEFAULT_QOS)
+                pose_pub = self.create_publisher(PoseStamped, f"{base}/current_pose", DEFAULT_QOS)
+            else:
+                self.create_subscription(JointState, f"{base}/target",
+                                         lambda m, n=name: self._on_joint_target(n, m), DEFAULT_QOS)
+                pose_pub = None
+            err_pub = self.create_publisher(Float64MultiArray, f"{base}/error", DEFAULT_QOS)
+            self._feedback_pubs[name] = (pose_pub, err_pub)
+            self.create_service(SetBool, f"{base}/set_active", lambda rq, rs, n=name: self._on_set_active(n, rq, rs))
+        self.create_service(Trigger, "~/activate", self._on_activate)
+        self.create_service(Trigger, "~/deactivate", self._on_deactivate)
+        self.create_service(SetBool, "~/enable", self._on_enable)
+        self.create_service(Trigger, "~/reset_targets", self._on_reset_targets)
+        self.pub_diag = self.create_publisher(DiagnosticArray, "/diagnostics", DEFAULT_QOS)
+        if diagnostics_rate > 0:
+            self.create_timer(1.0 / diagnostics_rate, self._publish_diagnostics)
+        if feedback_rate > 0:
+            self.create_timer(1.0 / feedback_rate, self._publish_feedback)
+        for name, active in self.setup.initially_active.items():
+            obj = self.setup.tasks.get(name) or self.controller.get_constraint(name)
+            if active:
+                obj.activate()
+
+    # -------------------------------------------------------------- targets
+    def _on_target_pose(self, name: str, msg: PoseStamped) -> None:
+        task = self.setup.tasks[name]
+        frame = msg.header.frame_id
+        try:
+            T = pose_to_matrix(msg.pose)
+            if frame and frame != self.robot.get_base_frame():
+                if not self.robot.frame_exists(frame):
+                    raise ValueError(f"unknown frame '{frame}'")
+                if not self._have_state:
+                    raise ValueError(f"frame '{frame}' needs a joint state to be resolved")
+                self.robot.set_robot_state(self._q, self._v)
+                T = self.robot.get_frame_pose(frame) @ T
+            task.servo_controller().set_desired(T)
+        except ValueError as exc:
+            self.get_logger().error(f"target for task '{name}' rejected: {exc}")
+            return
+        self._target_time[name] = self._now()
+
+    def _on_joint_target(self, name: str, msg: JointState) -> None:
+        task = self.setup.tasks[name]
+        try:
+            names = list(msg.name)
+            missing = [j for j in self.setup.joints if j not in names]
+            if missing:
+                raise ValueError(f"missing joints {missing}")
+            idx = [names.index(j) for j in self.setup.joints]
+            model = self._wire_of_model
+
+            def pick(arr):
+                if len(arr) == 0:
+                    return None
+                if len(arr) != len(names):
+                    raise ValueError("array sizes do not match the joint names")
+                return np.asarray(arr, dtype=float)[idx][model]
+
+            pos, vel, eff = pick(msg.position), pick(msg.velocity), pick(msg.effort)
+            if isinstance(task, JointTorqueTask):
+                if eff is None:
+                    raise ValueError("a torque task needs 'effort' values")
+                task.set_desired(eff)
+            else:
+                if pos is None:
+                    raise ValueError("a joint task needs 'position' values")
+                task.set_desired(pos, vel)
+        except ValueError as exc:
+            self.get_logger().error(f"target for task '{name}' rejected: {exc}")
+            return
+        self._target_time[name] = self._now()
+
+    def expire_targets(self, t: float) -> None:
+        if self.target_timeout <= 0:
+            return
+        for name, stamp in list(self._target_time.items()):
+            if t - stamp > self.target_timeout:
+                self.get_logger().warning(f"target of task '{name}' older than {self.target_timeout} s: "
+                                          "holding the current state")
+                self._hold_task(self.setup.tasks[name])
+                del self._target_time[name]
+
+    def _hold_task(self, task) -> None:
+        if isinstance(task, CartesianTask):
+            task.servo_controller().hold_current_pose()
+        elif isinstance(task, JointAccelerationTask):
+            task.hold_current_position()
+
+    # -------------------------------------------------------------- services
+    def _on_set_active(self, name, req, res):
+        task = self.setup.tasks[name]
+        changed = task.activate() if req.data else task.deactivate()
+        res.success = True
+        res.message = f"task '{name}' {'activating' if req.data else 'deactivating'}" if changed else \
+            f"task '{name}' already {task.get_state().value}"
+        return res
+
+    def _on_activate(self, req, res):
+        self.controller.activate_tasks_and_constraints()
+        res.success, res.message = True, "activating every task and constraint"
+        return res
+
+    def _on_deactivate(self, req, res):
+        self.controller.deactivate_tasks_and_constraints()
+        res.success, res.message = True, "deactivating every task and constraint"
+        return res
+
+    def _on_enable(self, req, res):
+        if req.data and not self._enabled and self._have_state:
+            self._reset_targets()  # resume from where the robot is, not from old targets
+        self._enabled = bool(req.data)
+        res.success = True
+        res.message = "control enabled" if req.data else "holding (gravity + damping)"
+        return res
+
+    def _on_reset_targets(self, req, res):
+        if not self._have_state:
+            res.success, res.message = False, "no joint state received yet"
+            return res
+        self._reset_targets()
+        res.success, res.message = True, "targets set to the current state"
+        return res
+
+    def _reset_targets(self) -> None:
+        self.robot.set_robot_state(self._q, self._v)
+        for task in self.setup.tasks.values():
+            self._hold_task(task)
+        self._target_time.clear()
+
+    # -------------------------------------------------------------- feedback and diagnostics
+    def _publish_feedback(self) -> None:
+        if not self._have_state:
+            return
+        stamp = self.get_clock().now().to_msg()
+        for name, task in self.setup.tasks.items():
+            pose_pub, err_pub = self._feedback_pubs[name]
+            err = Float64MultiArray()
+            if isinstance(task, CartesianTask):
+                servo = task.servo_controller()
+                msg = PoseStamped()
+                msg.header.stamp = stamp
+                msg.header.frame_id = self.robot.get_base_frame()
+                matrix_to_pose(servo.get_current_cartesian_pose(), msg.pose)
+                pose_pub.publish(msg)
+                err.data = servo.get_cartesian_pose_error().tolist()
+            elif isinstance(task, JointAccelerationTask):
+                err.data = task.get_position_error().tolist()
+            err_pub.publish(err)
+
+    def loop_statistics(self):
+        per = np.array(self.loop_periods[-2000:]) if self.loop_periods else np.zeros(1)
+        sol = np.array(self.solve_times[-2000:]) if self.solve_times else np.zeros(1)
+        return {"solve_median_us": float(np.median(sol) * 1e6), "solve_p99_us": float(np.percentile(sol, 99) * 1e6),
+                "period_mean_ms": float(per.mean() * 1e3),
+                "period_p99_ms": float(np.percentile(per, 99) * 1e3),
+                "jitter_p99_ms": float(np.percentile(np.abs(per - self.period), 99) * 1e3)}
+
+    def _publish_diagnostics(self) -> None:
+        st = DiagnosticStatus()
+        st.name = f"{self.get_name()}: whole-body controller"
+        st.hardware_id = self.robot.name
+        code = self.controller.get_return_code()
+        if not self._have_state:
+            st.level, st.message = DiagnosticStatus.WARN, "waiting for joint_states"
+        elif self._safe_reason is not None:
+            st.level, st.message = DiagnosticStatus.ERROR, f"safe command: {self._safe_reason}"
+        else:
+            st.level, st.message = DiagnosticStatus.OK, "controlling"
+        stats = self.loop_statistics()
+        active = [n for n, t in self.setup.tasks.items() if t.is_computing()]
+        values = {"solver_status": code.value, "solver": self.controller.solver.value,
+                  "solve_time_median_us": f"{stats['solve_median_us']:.1f}",
+                  "solve_time_p99_us": f"{stats['solve_p99_us']:.1f}",
+                  "loop_period_mean_ms": f"{stats['period_mean_ms']:.3f}",
+                  "loop_jitter_p99_ms": f"{stats['jitter_p99_ms']:.3f}",
+                  "active_tasks": ",".join(active), "enabled": str(self._enabled)}
+        st.values = [KeyValue(key=k, value=v) for k, v in values.items()]
+        arr = DiagnosticArray()
+        arr.header.stamp = self.get_clock().now().to_msg()
+        arr.status = [st]
+        self.pub_diag.publish(arr)

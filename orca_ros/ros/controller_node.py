@@ -1,0 +1,202 @@
+"""orca_controller: the whole-body controller as a ROS 2 node.
+
+In: ``joint_states`` (mapped by name, extra joints ignored, best effort, depth 1). Out: effort commands on
+``command_topic`` (Float64MultiArray in the ``joints`` order, reliable). The QP runs in a fixed-rate timer
+(``trigger: timer``) or once per received state (``trigger: joint_state``, for lockstep simulation).
+Task targets, services, feedback and diagnostics: see :mod:`orca_ros.ros.controller_interfaces`.
+
+Safety: nothing is published before the first valid joint state; NaN/incomplete states are rejected; a stale
+state, a QP failure, ``~/enable false`` or shutdown switch to the safe command (last command fading into
+gravity + damping, see :class:`orca_ros.safety.SafeCommand`), with a log line saying why; normal control
+resumes when good data returns.
+"""
+from __future__ import annotations
+
+import sys
+import time
+
+import numpy as np
+import rclpy
+from rclpy.node import Node
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64MultiArray
+
+from ..configuration import build_from_config
+from ..optim import ReturnCode
+from ..safety import SafeCommand
+from .common import COMMAND_QOS, STATE_QOS, make_executor, nested_parameters, param, stamp_to_sec
+from .controller_interfaces import ControllerInterfaces
+
+
+class OrcaControllerNode(Node, ControllerInterfaces):
+    def __init__(self, **kwargs):
+        super().__init__("orca_controller", automatically_declare_parameters_from_overrides=True, **kwargs)
+        cfg = {k: param(self, k, d) for k, d in (
+            ("urdf_path", "lwr.urdf"), ("robot_description", ""), ("base_frame", ""), ("joints", []),
+            ("solver", "proxqp"), ("resolution_strategy", "one_level_weighted"), ("floating_base", False),
+            ("gravity_compensated_by_hardware", False))}
+        cfg["tasks"] = nested_parameters(self, "tasks")
+        cfg["constraints"] = nested_parameters(self, "constraints")
+        self.setup = setup = build_from_config(cfg)
+        self.robot, self.controller = setup.robot, setup.controller
+        self.n = len(setup.joints)
+        self.update_rate = float(param(self, "update_rate", 1000.0))
+        self.period = 1.0 / self.update_rate
+        self.trigger = str(param(self, "trigger", "timer"))
+        self.state_timeout = float(param(self, "state_timeout", 0.05))
+        self.target_timeout = float(param(self, "target_timeout", 0.0))
+        self.safe = SafeCommand(self.robot, setup.gravity_compensated_by_hardware,
+                                float(param(self, "safe_damping", 5.0)), float(param(self, "safe_ramp", 0.2)))
+        self._wire_of_model = setup.model_index  # model joint k -> wire slot
+        self._q = np.zeros(self.n)
+        self._v = np.zeros(self.n)
+        self._state_stamp = None
+        self._state_wall = None
+        self._have_state = False
+        self._last_cmd = np.zeros(self.n)  # model order
+        self._enabled = True
+        self._t_prev = None
+        self._safe_reason = None
+        self.solve_times: list[float] = []
+        self.loop_periods: list[float] = []
+        self._last_loop_wall = None
+        self._cmd_msg = Float64MultiArray()
+        self._cmd_msg.data = [0.0] * self.n
+        self.pub_cmd = self.create_publisher(Float64MultiArray, str(param(self, "command_topic",
+                                                                          "/effort_controller/commands")),
+                                             COMMAND_QOS)
+        self.create_subscription(JointState, "joint_states", self._on_joint_state, STATE_QOS)
+        self.setup_interfaces(float(param(self, "diagnostics_rate", 5.0)), float(param(self, "feedback_rate", 50.0)))
+        if self.trigger == "timer":
+            self.create_timer(self.period, self._control_step)
+        elif self.trigger != "joint_state":
+            raise ValueError(f"trigger must be 'timer' or 'joint_state', got '{self.trigger}'")
+        self.get_logger().info(f"orca_controller: {self.n} joints, {self.update_rate:.0f} Hz ({self.trigger}), "
+                               f"solver {self.controller.solver.value}, tasks {list(setup.tasks)}")
+
+    # -------------------------------------------------------------- state input
+    def _on_joint_state(self, msg: JointState) -> None:
+        names = list(msg.name)
+        try:
+            idx = [names.index(j) for j in self.setup.joints]
+        except ValueError:
+            missing = [j for j in self.setup.joints if j not in names]
+            self.get_logger().error(f"joint_states rejected: missing joints {missing}", throttle_duration_sec=1.0)
+            return
+        if len(msg.position) != len(names) or len(msg.velocity) != len(names):
+            self.get_logger().error("joint_states rejected: position/velocity arrays do not match the names",
+                                    throttle_duration_sec=1.0)
+            return
+        pos = np.asarray(msg.position, dtype=float)[idx]
+        vel = np.asarray(msg.velocity, dtype=float)[idx]
+        if not (np.all(np.isfinite(pos)) and np.all(np.isfinite(vel))):
+            self.get_logger().error("joint_states rejected: NaN or infinite position/velocity",
+                                    throttle_duration_sec=1.0)
+            return
+        # wire order -> model order
+        self._q[:] = pos[self._wire_of_model]
+        self._v[:] = vel[self._wire_of_model]
+        self._state_stamp = stamp_to_sec(msg.header.stamp)
+        self._state_wall = time.monotonic()
+        if not self._have_state:
+            self._have_state = True
+            self.robot.set_robot_state(self._q, self._v)
+            self.get_logger().info("first joint state received: control starts")
+        if self.trigger == "joint_state":
+            self._control_step()
+
+    # -------------------------------------------------------------- control
+    def _now(self) -> float:
+        # lockstep runs follow the simulated time stamped on the states (deterministic); others the wall clock
+        if self.trigger == "joint_state" and self._state_stamp is not None:
+            return self._state_stamp
+        return time.monotonic()
+
+    def _control_step(self) -> None:
+        if not self._have_state:
+            return  # nothing is sent before the first valid state
+        wall = time.monotonic()
+        if self._last_loop_wall is not None:
+            self.loop_periods.append(wall - self._last_loop_wall)
+        self._last_loop_wall = wall
+        t = self._now()
+        dt = self.period if self._t_prev is None else max(1e-6, t - self._t_prev)
+        self._t_prev = t
+        if wall - self._state_wall > self.state_timeout:
+            self._publish_safe(t, "joint_states stale for %.0f ms" % ((wall - self._state_wall) * 1e3), fresh=False)
+            return
+        self.robot.set_robot_state(self._q, self._v)
+        if not self._enabled:
+            self._publish_safe(t, "controller disabled (~/enable false)")
+            return
+        self.expire_targets(t)
+        t0 = time.perf_counter()
+        try:
+            ok = self.controller.update(t, dt)
+        except Exception as exc:  # a bug or bad data must not kill the node: go safe and say why
+            self.get_logger().error(f"controller update raised: {exc}", throttle_duration_sec=1.0)
+            ok = False
+        self.solve_times.append(time.perf_counter() - t0)
+        if not ok:
+            code = self.controller.get_return_code()
+            self._publish_safe(t, f"no QP solution ({code.value})")
+            return
+        cmd = self.controller.get_joint_torque_command()
+        if not np.all(np.isfinite(cmd)):
+            self._publish_safe(t, "non-finite torque command")
+            return
+        if self._safe_reason is not None:
+            self.get_logger().info(f"recovered from: {self._safe_reason}")
+            self._safe_reason = None
+            self.safe.reset()
+        self._publish(np.clip(cmd, -self.safe.limit, self.safe.limit))
+
+    def _publish_safe(self, t: float, reason: str, fresh: bool = True) -> None:
+        if reason != self._safe_reason:
+            self.get_logger().warning(f"safe command: {reason}")
+            self._safe_reason = reason
+        cmd = self.safe.compute(t if fresh else time.monotonic(), self._last_cmd, self._q,
+                                self._v if fresh else None)
+        self._publish(cmd)
+
+    def _publish(self, cmd_model: np.ndarray) -> None:
+        self._last_cmd[:] = cmd_model
+        wire = np.empty(self.n)
+        wire[self._wire_of_model] = cmd_model
+        self._cmd_msg.data = wire.tolist()
+        self.pub_cmd.publish(self._cmd_msg)
+
+    def shutdown_command(self) -> None:
+        """On shutdown: hold the arm (gravity, or zero when the hardware compensates it)."""
+        if self._have_state:
+            self._publish(self.safe.hold(self._q, None))
+
+    @property
+    def last_return_code(self) -> ReturnCode:
+        return self.controller.get_return_code()
+
+
+def main(args=None) -> int:
+    rclpy.init(args=args)
+    node = None
+    try:
+        node = OrcaControllerNode()
+        executor = make_executor()
+        executor.add_node(node)
+        executor.spin()
+    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            try:
+                node.shutdown_command()
+            except Exception:
+                pass
+            node.destroy_node()
+        if rclpy.ok():
+            rclpy.shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

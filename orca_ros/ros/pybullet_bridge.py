@@ -1,0 +1,231 @@
+"""PyBullet bridge node: the simulated robot behind ros2_control-style topics.
+
+Publishes ``joint_states`` (name, position, velocity, effort), ``odom`` (nav_msgs/Odometry, floating base
+only, twist in the child frame as the message defines) and ``/clock`` (simulated time); takes effort
+commands on ``/<controller_name>/commands`` (std_msgs/Float64MultiArray in the ``joints`` order, reliable QoS,
+as ros2_control's forward effort controller), so a real robot replaces this node by a parameter change.
+
+Modes: ``free_running`` (the simulation advances at wall-clock rate ``rate``) and ``lockstep`` (each command
+advances the simulation by ``control_period`` and answers with the new state: deterministic runs).
+Services: ``~/reset``, ``~/pause``, ``~/unpause`` (std_srvs/Trigger).
+"""
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+import rclpy
+from nav_msgs.msg import Odometry
+from rclpy.node import Node
+from rosgraph_msgs.msg import Clock
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64MultiArray
+from std_srvs.srv import Trigger
+
+from ..configuration import resolve_urdf_path
+from ..robot import RobotModel
+from ..sim import SimServer
+from .common import COMMAND_QOS, STATE_QOS, make_executor, param, sec_to_stamp
+
+
+class PyBulletBridge(Node):
+    def __init__(self, **kwargs):
+        super().__init__("pybullet_bridge", automatically_declare_parameters_from_overrides=True, **kwargs)
+        urdf = param(self, "urdf_path", "lwr.urdf")
+        description = param(self, "robot_description", "")
+        self.floating = bool(param(self, "floating_base", False))
+        self.mode = str(param(self, "mode", "free_running"))
+        if self.mode not in ("free_running", "lockstep"):
+            raise ValueError(f"mode must be free_running or lockstep, got '{self.mode}'")
+        self.time_step = float(param(self, "time_step", 0.001))
+        self.control_period = float(param(self, "control_period", 0.001))
+        self.rate = float(param(self, "rate", 1000.0))
+        self.hw_gravity = bool(param(self, "gravity_compensation", False))
+        self.publish_clock = bool(param(self, "publish_clock", self.mode == "lockstep"))
+        controller_name = str(param(self, "controller_name", "effort_controller"))
+        if description:
+            import tempfile  # noqa: PLC0415
+
+            fh = tempfile.NamedTemporaryFile("w", suffix=".urdf", delete=False)
+            fh.write(description)
+            fh.close()
+            urdf = fh.name
+        else:
+            urdf = resolve_urdf_path(urdf)
+        self.server = SimServer(gui=bool(param(self, "gui", False)), time_step=self.time_step,
+                                ground_plane=bool(param(self, "ground_plane", True)))
+        self.model = self.server.insert_model_from_urdf_file(
+            urdf, param(self, "base_position", [0.0, 0.0, 0.0]), param(self, "base_orientation", [0.0, 0.0, 0.0, 1.0]),
+            fixed_base=not self.floating)
+        joints = list(param(self, "joints", self.model.get_joint_names()) or self.model.get_joint_names())
+        self.joints = joints
+        self.initial = np.array(param(self, "initial_positions", [0.0] * len(joints)) or [0.0] * len(joints),
+                                dtype=float)
+        if self.initial.size != len(joints):
+            raise ValueError(f"initial_positions needs {len(joints)} values")
+        self.model.set_model_configuration(joints, self.initial)
+        self._order = np.array([self.model.get_joint_names().index(n) for n in joints])
+        self.effort_limit = np.array([e if e > 0 else np.inf for e in
+                                      np.array(self.model._effort)[self._order]])
+        self.gravity_model = None
+        if self.hw_gravity:
+            self.gravity_model = RobotModel()
+            self.gravity_model.load_model_from_file(urdf, self.floating)
+        self.paused = False
+        self._cmd = np.zeros(len(joints))
+        self._got_command = False
+        self._last_cmd_time = None
+        self._bad_cmds = 0
+
+        self.pub_js = self.create_publisher(JointState, "joint_states", STATE_QOS)
+        self.pub_odom = self.create_publisher(Odometry, "odom", STATE_QOS) if self.floating else None
+        self.pub_clock = self.create_publisher(Clock, "/clock", 10) if self.publish_clock else None
+        self.create_subscription(Float64MultiArray, f"/{controller_name}/commands", self._on_command, COMMAND_QOS)
+        self.create_service(Trigger, "~/reset", self._on_reset)
+        self.create_service(Trigger, "~/pause", self._on_pause)
+        self.create_service(Trigger, "~/unpause", self._on_unpause)
+        self._js = JointState()
+        self._js.name = list(joints)
+        if self.mode == "free_running":
+            self.steps_per_tick = max(1, int(round(1.0 / (self.rate * self.time_step))))
+            self.create_timer(1.0 / self.rate, self._tick)
+        else:
+            self.steps_per_tick = max(1, int(round(self.control_period / self.time_step)))
+            # until commands flow, keep announcing the state (late subscribers, restarts)
+            self.create_timer(0.05, self._idle_publish)
+        self.get_logger().info(
+            f"PyBullet bridge: {len(joints)} joints, mode {self.mode}, {self.steps_per_tick} step(s) of "
+            f"{self.time_step * 1e3:.2f} ms per {'command' if self.mode == 'lockstep' else 'tick'}, commands on "
+            f"/{controller_name}/commands{', hardware gravity compensation' if self.hw_gravity else ''}")
+        self._publish_state()
+
+    # -------------------------------------------------------------- commands and stepping
+    def _on_command(self, msg: Float64MultiArray) -> None:
+        cmd = np.asarray(msg.data, dtype=float)
+        if cmd.size != len(self.joints) or not np.all(np.isfinite(cmd)):
+            self._bad_cmds += 1
+            why = (f"{cmd.size} values for {len(self.joints)} joints" if cmd.size != len(self.joints)
+                   else "non-finite values")
+            self.get_logger().error(f"rejected effort command ({why}); keeping the last valid command",
+                                    throttle_duration_sec=1.0)
+            if self.mode == "lockstep":
+                self._advance()  # the controller waits for a state: keep the loop alive
+            return
+        np.clip(cmd, -self.effort_limit, self.effort_limit, out=cmd)
+        self._cmd = cmd
+        self._got_command = True
+        self._last_cmd_time = self.get_clock().now()
+        if self.mode == "lockstep":
+            self._advance()
+
+    def _advance(self) -> None:
+        if not self.paused:
+            full = np.zeros(self.model.get_nr_of_degrees_of_freedom())
+            full[self._order] = self._cmd
+            self.model.set_joint_torque_command(full)
+            for _ in range(self.steps_per_tick):
+                if self.gravity_model is not None:
+                    self._update_gravity()
+                self.server.step()
+        self._publish_state()
+
+    def _update_gravity(self) -> None:
+        gm = self.gravity_model
+        q, v = self.model.get_joint_positions(), self.model.get_joint_velocities()
+        if self.floating:
+            gm.set_robot_state(self.model.get_world_to_base_transform(), q, self.model.get_base_velocity(), v,
+                               self.model.get_gravity())
+        else:
+            gm.set_robot_state(q, v)
+        # names: the bridge model and Pinocchio may order joints differently
+        g = dict(zip(gm.get_joint_names(), gm.get_joint_gravity_torques()))
+        self.model.set_joint_gravity_torques([g[n] for n in self.model.get_joint_names()])
+
+    def _tick(self) -> None:
+        self._advance()
+
+    def _idle_publish(self) -> None:
+        if self._last_cmd_time is None or (self.get_clock().now() - self._last_cmd_time).nanoseconds > 2e8:
+            self._publish_state()
+
+    def _publish_state(self) -> None:
+        js = self._js
+        if self.mode == "lockstep":
+            sec_to_stamp(self.server.get_time(), js.header.stamp)
+        else:
+            js.header.stamp = self.get_clock().now().to_msg()
+        o = self._order
+        js.position = self.model.get_joint_positions()[o].tolist()
+        js.velocity = self.model.get_joint_velocities()[o].tolist()
+        js.effort = self.model.get_joint_measured_torques()[o].tolist()
+        self.pub_js.publish(js)
+        if self.pub_odom is not None:
+            self._publish_odom(js.header.stamp)
+        if self.pub_clock is not None:
+            c = Clock()
+            sec_to_stamp(self.server.get_time(), c.clock)
+            self.pub_clock.publish(c)
+
+    def _publish_odom(self, stamp) -> None:
+        import pinocchio as pin  # noqa: PLC0415
+
+        T = self.model.get_world_to_base_transform()
+        twist = self.model.get_base_velocity()
+        R = T[:3, :3]
+        m = Odometry()
+        m.header.stamp = stamp
+        m.header.frame_id = "world"
+        m.child_frame_id = "base_link"
+        p = m.pose.pose
+        p.position.x, p.position.y, p.position.z = (float(v) for v in T[:3, 3])
+        q = pin.Quaternion(R)
+        p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w = q.x, q.y, q.z, q.w
+        # nav_msgs/Odometry: the twist is expressed in child_frame_id
+        lin, ang = R.T @ twist[:3], R.T @ twist[3:]
+        m.twist.twist.linear.x, m.twist.twist.linear.y, m.twist.twist.linear.z = (float(v) for v in lin)
+        m.twist.twist.angular.x, m.twist.twist.angular.y, m.twist.twist.angular.z = (float(v) for v in ang)
+        self.pub_odom.publish(m)
+
+    # -------------------------------------------------------------- services
+    def _on_reset(self, req, res):
+        self._cmd[:] = 0.0
+        self.model.set_model_configuration(self.joints, self.initial)
+        self._publish_state()
+        res.success, res.message = True, "joints reset to initial_positions, command zeroed"
+        return res
+
+    def _on_pause(self, req, res):
+        self.paused = True
+        res.success, res.message = True, "simulation paused"
+        return res
+
+    def _on_unpause(self, req, res):
+        self.paused = False
+        res.success, res.message = True, "simulation running"
+        return res
+
+    def destroy_node(self):
+        self.server.shutdown()
+        super().destroy_node()
+
+
+def main(args=None) -> int:
+    rclpy.init(args=args)
+    node = None
+    try:
+        node = PyBulletBridge()
+        executor = make_executor()
+        executor.add_node(node)
+        executor.spin()
+    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            node.destroy_node()
+        if rclpy.ok():
+            rclpy.shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

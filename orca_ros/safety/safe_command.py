@@ -1,0 +1,49 @@
+"""The command sent when the controller cannot be trusted (stale state, QP failure, hold, shutdown).
+
+hold(q, v) = g(q) - D v   (g omitted when the drives compensate gravity themselves), clipped to the torque
+limits. When trouble starts, the last good command fades linearly into the hold command over ``ramp``
+seconds, so the torques never step.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+class SafeCommand:
+    def __init__(self, robot, gravity_by_hardware: bool = False, damping: float = 5.0, ramp: float = 0.2):
+        self.robot = robot
+        self.gravity_by_hardware = bool(gravity_by_hardware)
+        self.damping = float(damping)
+        self.ramp = float(ramp)
+        lim = robot.get_joint_torque_limits()
+        self.limit = np.where((lim > 0) & np.isfinite(lim), lim, np.inf)
+        self._start: float | None = None
+        self._from = np.zeros(robot.get_nr_of_degrees_of_freedom())
+        self.active = False
+
+    def hold(self, q: np.ndarray, v: np.ndarray | None) -> np.ndarray:
+        n = self.robot.get_nr_of_degrees_of_freedom()
+        if self.gravity_by_hardware:
+            tau = np.zeros(n)
+        else:
+            vs = np.zeros(n) if v is None else v
+            self.robot.set_robot_state(q, vs)
+            tau = self.robot.get_joint_gravity_torques().copy()
+        if v is not None:
+            tau -= self.damping * v
+        return np.clip(tau, -self.limit, self.limit)
+
+    def compute(self, t: float, last_command: np.ndarray, q: np.ndarray, v: np.ndarray | None) -> np.ndarray:
+        """Command at time t; the fade starts at the first call after :meth:`reset`."""
+        if not self.active:
+            self.active = True
+            self._start = t
+            self._from = np.array(last_command, dtype=float)
+        hold = self.hold(q, v)
+        a = 1.0 if self.ramp <= 0 else min(1.0, max(0.0, (t - self._start) / self.ramp))
+        out = (1.0 - a) * self._from + a * hold
+        return np.where(np.isfinite(out), out, hold)
+
+    def reset(self) -> None:
+        self.active = False
+        self._start = None
