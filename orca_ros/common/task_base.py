@@ -105,7 +105,6 @@ class TaskBase:
         self._ramp_x0 = self._ramp_x
         self._ramp_t0 = None
         self.state = ActivationState.ACTIVATING
-        self._on_activation()
         if self._cb_activation is not None:
             self._cb_activation()
         return True
@@ -119,9 +118,6 @@ class TaskBase:
         if self._cb_deactivation is not None:
             self._cb_deactivation()
         return True
-
-    def _on_activation(self) -> None:
-        """Hook for subclasses (e.g. latch the current state as desired)."""
 
     def _step_ramp(self, t: float) -> None:
         st = self.state

@@ -94,7 +94,6 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         raise ConfigError(f"'joints' must list exactly the robot's joints {model_joints}, got {joints}")
     model_index = np.array([joints.index(n) for n in model_joints])
     n = robot.get_nr_of_degrees_of_freedom()
-    robot.set_robot_state(np.zeros(n), np.zeros(n)) if not floating else None
 
     try:
         solver = QPSolver.from_string(cfg.get("solver", "proxqp"))

@@ -24,7 +24,7 @@ from std_msgs.msg import Float64MultiArray
 from ..configuration import build_from_config
 from ..optim import ReturnCode
 from ..safety import SafeCommand
-from .common import COMMAND_QOS, STATE_QOS, make_executor, nested_parameters, param, stamp_to_sec
+from .common import COMMAND_QOS, STATE_QOS, make_executor, spin, nested_parameters, param, stamp_to_sec
 from .controller_interfaces import ControllerInterfaces
 
 
@@ -183,7 +183,7 @@ def main(args=None) -> int:
         node = OrcaControllerNode()
         executor = make_executor()
         executor.add_node(node)
-        executor.spin()
+        spin(executor, node)
     except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
         pass
     finally:

@@ -25,7 +25,7 @@ from std_srvs.srv import Trigger
 from ..configuration import resolve_urdf_path
 from ..robot import RobotModel
 from ..sim import SimServer
-from .common import COMMAND_QOS, STATE_QOS, make_executor, param, sec_to_stamp
+from .common import COMMAND_QOS, STATE_QOS, make_executor, spin, param, sec_to_stamp
 
 
 class PyBulletBridge(Node):
@@ -216,7 +216,7 @@ def main(args=None) -> int:
         node = PyBulletBridge()
         executor = make_executor()
         executor.add_node(node)
-        executor.spin()
+        spin(executor, node)
     except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
         pass
     finally:

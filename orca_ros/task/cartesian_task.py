@@ -31,13 +31,9 @@ class CartesianTask(GenericTask):
     def get_control_frame(self) -> str | None:
         return self._servo.get_control_frame()
 
-    def _on_activation(self) -> None:
-        # a task switched on without a target holds where the frame is
-        if not self._servo.has_desired() and self.robot is not None and self.robot.is_initialized():
-            self._servo.hold_current_pose()
-
     def _update_affine_function(self, current_time: float, dt: float) -> None:
         servo = self._servo
+        # a task switched on without a target holds where the frame is when it first computes
         if not servo.has_desired():
             servo.hold_current_pose()
         a_des = servo.update(current_time, dt)

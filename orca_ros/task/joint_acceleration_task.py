@@ -63,10 +63,6 @@ class JointAccelerationTask(GenericTask):
     def hold_current_position(self) -> None:
         self.set_desired(self.robot.get_joint_positions())
 
-    def _on_activation(self) -> None:
-        if not self._has_desired and self.robot is not None and self.robot.is_initialized():
-            self.hold_current_position()
-
     def get_position_error(self) -> np.ndarray:
         return self._q_err.copy()
 
