@@ -1,0 +1,152 @@
+"""Launch-free multi-process harness: bridge and controller as separate processes on a private ROS domain,
+plus an in-test probe node (the test's hands and eyes)."""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+
+import orca_ros as orca
+
+
+def free_domain_id() -> int:
+    return 100 + (os.getpid() * 7 + int(time.time() * 1000)) % 100
+
+
+def ros_env(domain: int) -> dict:
+    env = dict(os.environ)
+    env.update(ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST", PYTHONUNBUFFERED="1")
+    return env
+
+
+class Procs:
+    def __init__(self, domain: int, tmp_path):
+        self.domain, self.tmp, self.procs = domain, tmp_path, []
+
+    def start(self, module: str, *ros_args: str, name: str):
+        log = open(os.path.join(self.tmp, f"{name}.log"), "w")
+        p = subprocess.Popen([sys.executable, "-m", module, "--ros-args", *ros_args], env=ros_env(self.domain),
+                             stdout=log, stderr=subprocess.STDOUT)
+        self.procs.append((p, log, name))
+        return p
+
+    def log(self, name: str) -> str:
+        with open(os.path.join(self.tmp, f"{name}.log")) as fh:
+            return fh.read()
+
+    def stop(self):
+        for p, log, _ in self.procs:
+            if p.poll() is None:
+                p.terminate()
+        for p, log, _ in self.procs:
+            try:
+                p.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                p.kill()
+            log.close()
+
+
+class Probe:
+    """rclpy node in the test process, spinning in a thread."""
+
+    def __init__(self, domain: int, controller_ns: str = "/orca_controller"):
+        import rclpy
+        from geometry_msgs.msg import PoseStamped
+        from rclpy.executors import SingleThreadedExecutor
+        from rclpy.qos import qos_profile_sensor_data
+        from sensor_msgs.msg import JointState
+        from std_msgs.msg import Float64MultiArray
+
+        from orca_ros.ros.common import COMMAND_QOS
+
+        self.rclpy = rclpy
+        self.context = rclpy.Context()
+        rclpy.init(context=self.context, domain_id=domain)
+        self.node = rclpy.create_node("probe", context=self.context)
+        self.ns = controller_ns
+        self.lock = threading.Lock()
+        self.states: list = []   # (stamp, q)
+        self.commands: list = []
+        self.node.create_subscription(JointState, "/joint_states", self._on_state, qos_profile_sensor_data)
+        self.node.create_subscription(Float64MultiArray, "/effort_controller/commands",
+                                      lambda m: self._append(self.commands, np.array(m.data)), COMMAND_QOS)
+        self.pub_target = {}
+        self.PoseStamped = PoseStamped
+        self.JointState = JointState
+        self.Float64MultiArray = Float64MultiArray
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self._stop = False
+        self.thread = threading.Thread(target=self._spin, daemon=True)
+        self.thread.start()
+        self.robot = orca.RobotModel()
+        self.robot.load_model_from_file(orca.default_urdf_path())
+
+    def _spin(self):
+        while not self._stop and self.context.ok():
+            self.executor.spin_once(timeout_sec=0.05)
+
+    def _append(self, lst, item):
+        with self.lock:
+            lst.append(item)
+
+    def _on_state(self, m):
+        stamp = m.header.stamp.sec + m.header.stamp.nanosec * 1e-9
+        q = dict(zip(m.name, m.position))
+        self._append(self.states, (stamp, np.array([q[f"joint_{i}"] for i in range(7)]), np.array(m.velocity)))
+
+    def last_state(self):
+        with self.lock:
+            return self.states[-1] if self.states else None
+
+    def wait_for(self, predicate, timeout: float, what: str):
+        t0 = time.time()
+        while time.time() - t0 < timeout:
+            if predicate():
+                return
+            time.sleep(0.02)
+        raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+    def sim_time(self) -> float:
+        s = self.last_state()
+        return -1.0 if s is None else s[0]
+
+    def wait_sim(self, seconds: float, timeout: float = 60.0):
+        t_end = self.sim_time() + seconds
+        self.wait_for(lambda: self.sim_time() >= t_end, timeout, f"{seconds} s of simulated time")
+
+    def ee_pose(self, q=None) -> np.ndarray:
+        if q is None:
+            q = self.last_state()[1]
+        self.robot.set_robot_state(q, np.zeros(7))
+        return self.robot.get_frame_pose("link_7")
+
+    def send_target(self, task: str, T: np.ndarray, frame_id: str = ""):
+        from orca_ros.ros.common import matrix_to_pose
+
+        if task not in self.pub_target:
+            self.pub_target[task] = self.node.create_publisher(self.PoseStamped, f"{self.ns}/tasks/{task}/target_pose",
+                                                               10)
+            time.sleep(0.5)  # let discovery match the new publisher
+        msg = self.PoseStamped()
+        msg.header.frame_id = frame_id
+        matrix_to_pose(T, msg.pose)
+        self.pub_target[task].publish(msg)
+
+    def call(self, srv_type, name: str, request, timeout: float = 10.0):
+        cli = self.node.create_client(srv_type, name)
+        if not cli.wait_for_service(timeout_sec=timeout):
+            raise AssertionError(f"service {name} not available")
+        fut = cli.call_async(request)
+        self.wait_for(fut.done, timeout, f"answer of {name}")
+        return fut.result()
+
+    def close(self):
+        self._stop = True
+        self.thread.join(timeout=5)
+        self.node.destroy_node()
+        self.rclpy.shutdown(context=self.context)

@@ -1,0 +1,74 @@
+"""Bridge and controller as separate processes (lockstep, private ROS domain, localhost discovery)."""
+import numpy as np
+import pytest
+
+pytest.importorskip("rclpy")
+
+from ros_harness import Probe, Procs, free_domain_id  # noqa: E402
+from std_srvs.srv import SetBool, Trigger  # noqa: E402
+
+import orca_ros as orca  # noqa: E402
+
+Q0 = "[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]"
+
+
+@pytest.fixture(scope="module")
+def system(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("ros")
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp))
+    cfg = orca.share_path("config", "lwr_controller.yaml")
+    procs.start("orca_ros.ros.pybullet_bridge", "-p", "mode:=lockstep", "-p", f"initial_positions:={Q0}",
+                name="bridge")
+    procs.start("orca_ros.ros.controller_node", "--params-file", cfg, "-p", "trigger:=joint_state", name="controller")
+    probe = Probe(domain)
+    try:
+        probe.wait_for(lambda: probe.sim_time() > 1.0, 60, "the controller driving the bridge")
+        yield probe, procs
+    finally:
+        probe.close()
+        procs.stop()
+
+
+def test_pose_target_reached_and_ramped_deactivation(system):
+    probe, procs = system
+    start = probe.ee_pose()
+    target = start.copy()
+    target[:3, 3] += [0.08, -0.10, 0.05]
+    probe.send_target("ee", target)
+    probe.wait_sim(3.0)
+    err = np.linalg.norm(probe.ee_pose()[:3, 3] - target[:3, 3])
+    assert err < 1e-3, f"end-effector {err * 1e3:.2f} mm from the target (PyBullet state)"
+
+    # ramp the task out: torques stay continuous
+    n0 = len(probe.commands)
+    res = probe.call(SetBool, "/orca_controller/tasks/ee/set_active", SetBool.Request(data=False))
+    assert res.success
+    probe.wait_sim(1.0)
+    cmds = np.array(probe.commands[n0:])
+    steps = np.abs(np.diff(cmds, axis=0)).max()
+    assert steps < 1.0, f"largest torque step {steps:.3f} Nm per cycle while ramping out"
+    # and back in: the target is reached again
+    res = probe.call(SetBool, "/orca_controller/tasks/ee/set_active", SetBool.Request(data=True))
+    assert res.success
+    probe.wait_sim(3.0)
+    err = np.linalg.norm(probe.ee_pose()[:3, 3] - target[:3, 3])
+    assert err < 1e-3, f"after re-activation {err * 1e3:.2f} mm from the target"
+
+
+def test_reset_targets_holds_current_pose(system):
+    probe, procs = system
+    far = probe.ee_pose()
+    far[:3, 3] += [0.0, 0.25, -0.1]
+    probe.send_target("ee", far)
+    probe.wait_sim(0.15)
+    res = probe.call(Trigger, "/orca_controller/reset_targets", Trigger.Request())
+    assert res.success
+    at_reset = probe.ee_pose()
+    probe.wait_sim(1.5)
+    final = probe.ee_pose()
+    # it stopped near where it was when the targets were reset, far from the abandoned target
+    assert np.linalg.norm(final[:3, 3] - at_reset[:3, 3]) < 0.03
+    assert np.linalg.norm(final[:3, 3] - far[:3, 3]) > 0.1
+    assert np.abs(probe.last_state()[2]).max() < 0.02
+    assert "Traceback" not in procs.log("controller") and "Traceback" not in procs.log("bridge")
