@@ -3,6 +3,14 @@
 ``import orca_ros as orca`` gives the whole core API (no ROS import happens here; the ROS 2 nodes live in
 ``orca_ros.ros`` and are imported only on demand).
 """
+import os as _os
+
+# The controller's matrices are tiny: BLAS worker threads only add latency, and their scheduling changes the
+# last bits of results from run to run (lockstep simulations stop being bit-identical, measured). One thread
+# unless the user decided otherwise; this must happen before numpy is first imported.
+_os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+_os.environ.setdefault("OMP_NUM_THREADS", "1")
+
 from .common import ActivationState, TaskBase
 from .constraint import (
     DynamicsEquationConstraint,

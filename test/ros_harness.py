@@ -29,8 +29,8 @@ class Procs:
 
     def start(self, module: str, *ros_args: str, name: str):
         log = open(os.path.join(self.tmp, f"{name}.log"), "w")
-        p = subprocess.Popen([sys.executable, "-m", module, "--ros-args", *ros_args], env=ros_env(self.domain),
-                             stdout=log, stderr=subprocess.STDOUT)
+        p = subprocess.Popen([sys.executable, "-m", module, "--ros-args", *ros_args],
+                             env=ros_env(self.domain), stdout=log, stderr=subprocess.STDOUT)
         self.procs.append((p, log, name))
         return p
 

@@ -176,3 +176,16 @@ def test_bad_inputs_raise_clear_errors(lwr_urdf):
         robot.set_base_frame("flange")
     with pytest.raises(ValueError, match="gravity"):
         robot.set_gravity([0, 0])
+
+
+def test_gravity_query_does_not_corrupt_frame_terms(lwr_urdf, rng):
+    robot = orca.RobotModel()
+    robot.load_model_from_file(lwr_urdf)
+    q, v = _random_state(robot, rng)
+    robot.set_robot_state(q, v)
+    robot.get_joint_gravity_torques()  # before any frame query of this state
+    b1 = robot.get_frame_bias_acceleration("link_5")
+    fresh = orca.RobotModel()
+    fresh.load_model_from_file(lwr_urdf)
+    fresh.set_robot_state(q, v)
+    np.testing.assert_allclose(b1, fresh.get_frame_bias_acceleration("link_5"), atol=1e-12)

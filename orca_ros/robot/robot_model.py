@@ -66,6 +66,9 @@ class RobotModel:
     def _setup(self, model: pin.Model, floating_base: bool) -> None:
         self.model = model
         self.data = model.createData()
+        # gravity is computed on its own Data: its RNEA pass would overwrite the velocities/accelerations
+        # that computeAllTerms left in self.data for the frame quantities of the same state
+        self._gravity_data = model.createData()
         self.floating_base = bool(floating_base)
         if not self.name:
             self.name = model.name
@@ -299,7 +302,7 @@ class RobotModel:
             self._require_model()
             raise RuntimeError(f"robot '{self.name}' has no state yet: call set_robot_state() first")
         if self._gravity_stamp != self._stamp:
-            self._g = pin.computeGeneralizedGravity(self.model, self.data, self._q_pin).copy()
+            self._g = pin.computeGeneralizedGravity(self.model, self._gravity_data, self._q_pin).copy()
             self._gravity_stamp = self._stamp
         return self._g
 

@@ -93,11 +93,14 @@ class OrcaControllerNode(Node, ControllerInterfaces):
             self.get_logger().error("joint_states rejected: NaN or infinite position/velocity",
                                     throttle_duration_sec=1.0)
             return
+        stamp = stamp_to_sec(msg.header.stamp)
+        self._state_wall = time.monotonic()
+        if self.trigger == "joint_state" and self._state_stamp is not None and stamp <= self._state_stamp:
+            return  # a repeated state (e.g. the bridge re-announcing itself): computing twice would add a step
         # wire order -> model order
         self._q[:] = pos[self._wire_of_model]
         self._v[:] = vel[self._wire_of_model]
-        self._state_stamp = stamp_to_sec(msg.header.stamp)
-        self._state_wall = time.monotonic()
+        self._state_stamp = stamp
         if not self._have_state:
             self._have_state = True
             self.robot.set_robot_state(self._q, self._v)

@@ -42,6 +42,7 @@ class PyBulletBridge(Node):
         self.rate = float(param(self, "rate", 1000.0))
         self.hw_gravity = bool(param(self, "gravity_compensation", False))
         self.publish_clock = bool(param(self, "publish_clock", self.mode == "lockstep"))
+        self.stop_time = float(param(self, "stop_time", 0.0))  # > 0: simulated time at which stepping stops
         controller_name = str(param(self, "controller_name", "effort_controller"))
         if description:
             import tempfile  # noqa: PLC0415
@@ -119,6 +120,8 @@ class PyBulletBridge(Node):
             self._advance()
 
     def _advance(self) -> None:
+        if self.stop_time > 0 and self.server.get_time() >= self.stop_time - 1e-9:
+            self.paused = True
         if not self.paused:
             full = np.zeros(self.model.get_nr_of_degrees_of_freedom())
             full[self._order] = self._cmd
