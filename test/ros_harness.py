@@ -13,8 +13,14 @@ import numpy as np
 import orca_ros as orca
 
 
+_NEXT_DOMAIN = [100 + (os.getpid() * 7) % 60]
+
+
 def free_domain_id() -> int:
-    return 100 + (os.getpid() * 7 + int(time.time() * 1000)) % 100
+    """A ROS domain no other test of this session uses (100..229; localhost-only discovery)."""
+    d = _NEXT_DOMAIN[0]
+    _NEXT_DOMAIN[0] = 100 + (d - 100 + 1) % 130
+    return d
 
 
 def ros_env(domain: int) -> dict:
