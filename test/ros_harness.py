@@ -84,6 +84,11 @@ class Probe:
         self.PoseStamped = PoseStamped
         self.JointState = JointState
         self.Float64MultiArray = Float64MultiArray
+        # entities are created before the executor thread starts: creating them while another thread spins
+        # the node can leave that thread waiting on a stale wait set
+        self.pub_target["ee"] = self.node.create_publisher(PoseStamped, f"{controller_ns}/tasks/ee/target_pose", 10)
+        self.pub_state = self.node.create_publisher(JointState, "/joint_states", 10)
+        self.pub_command = self.node.create_publisher(Float64MultiArray, "/effort_controller/commands", COMMAND_QOS)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
         self._stop = False
@@ -103,6 +108,8 @@ class Probe:
     def _on_state(self, m):
         stamp = m.header.stamp.sec + m.header.stamp.nanosec * 1e-9
         q = dict(zip(m.name, m.position))
+        if any(f"joint_{i}" not in q for i in range(7)):
+            return  # the tests' own malformed states
         self._append(self.states, (stamp, np.array([q[f"joint_{i}"] for i in range(7)]), np.array(m.velocity)))
 
     def last_state(self):

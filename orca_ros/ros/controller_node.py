@@ -126,7 +126,8 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         dt = self.period if self._t_prev is None else max(1e-6, t - self._t_prev)
         self._t_prev = t
         if wall - self._state_wall > self.state_timeout:
-            self._publish_safe(t, "joint_states stale for %.0f ms" % ((wall - self._state_wall) * 1e3), fresh=False)
+            self._publish_safe(t, f"joint_states stale (none valid for more than {self.state_timeout * 1e3:.0f} ms)",
+                               fresh=False)
             return
         self.robot.set_robot_state(self._q, self._v)
         if not self._enabled:

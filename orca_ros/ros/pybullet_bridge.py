@@ -105,10 +105,14 @@ class PyBulletBridge(Node):
         cmd = np.asarray(msg.data, dtype=float)
         if cmd.size != len(self.joints) or not np.all(np.isfinite(cmd)):
             self._bad_cmds += 1
-            why = (f"{cmd.size} values for {len(self.joints)} joints" if cmd.size != len(self.joints)
-                   else "non-finite values")
-            self.get_logger().error(f"rejected effort command ({why}); keeping the last valid command",
-                                    throttle_duration_sec=1.0)
+            log = self.get_logger()
+            # one call site per reason: rclpy throttles per call site
+            if cmd.size != len(self.joints):
+                log.error(f"rejected effort command ({cmd.size} values for {len(self.joints)} joints); keeping the "
+                          "last valid command", throttle_duration_sec=1.0)
+            else:
+                log.error("rejected effort command (non-finite values); keeping the last valid command",
+                          throttle_duration_sec=1.0)
             if self.mode == "lockstep":
                 self._advance()  # the controller waits for a state: keep the loop alive
             return

@@ -1,0 +1,124 @@
+"""Bad input on the wire: clear log lines, safe finite commands, nodes stay up and recover."""
+import time
+
+import numpy as np
+import pytest
+
+pytest.importorskip("rclpy")
+
+from ros_harness import Probe, Procs, free_domain_id  # noqa: E402
+from sensor_msgs.msg import JointState  # noqa: E402
+from std_msgs.msg import Float64MultiArray  # noqa: E402
+
+import orca_ros as orca  # noqa: E402
+
+NAMES = [f"joint_{i}" for i in range(7)]
+Q0 = np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0])
+
+
+def _publish_for(probe, pub, seconds, make):
+    t0 = time.time()
+    while time.time() - t0 < seconds:
+        pub.publish(make())
+        time.sleep(0.005)
+
+
+def _state(names=NAMES, q=Q0, v=np.zeros(7)):
+    m = JointState()
+    m.name = list(names)
+    m.position = [float(x) for x in q]
+    m.velocity = [float(x) for x in v]
+    return m
+
+
+def _wait_log(procs, name, text, timeout=10.0):
+    t0 = time.time()
+    while time.time() - t0 < timeout:
+        if text in procs.log(name):
+            return
+        time.sleep(0.05)
+    raise AssertionError(f"no log line containing '{text}' from {name}:\n{procs.log(name)[-3000:]}")
+
+
+def test_controller_survives_bad_states_and_targets(tmp_path):
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    procs.start("orca_ros.ros.controller_node", "--params-file", orca.share_path("config", "lwr_controller.yaml"),
+                "-p", "update_rate:=200.0", name="controller")
+    probe = Probe(domain)
+    try:
+        pub = probe.pub_state
+        time.sleep(2.0)
+        assert probe.commands == [], "no command may be sent before the first joint state"
+        # valid states, with an extra joint the controller does not know: ignored
+        extra = NAMES + ["gripper_joint"]
+        _publish_for(probe, pub, 1.0, lambda: _state(extra, np.append(Q0, 0.3), np.zeros(8)))
+        _wait_log(procs, "controller", "first joint state received")
+        assert len(probe.commands) > 50
+        robot = orca.RobotModel()
+        robot.load_model_from_file(orca.default_urdf_path())
+        robot.set_robot_state(Q0, np.zeros(7))
+        g = robot.get_joint_gravity_torques()
+        # at rest, holding its pose, the arm needs its gravity torques (after the ramps)
+        np.testing.assert_allclose(probe.commands[-1], g, atol=0.5)
+
+        # NaN in the state: rejected, and once the good state is too old the safe command takes over
+        nan_q = Q0.copy()
+        nan_q[3] = np.nan
+        n0 = len(probe.commands)
+        _publish_for(probe, pub, 0.5, lambda: _state(q=nan_q))
+        _wait_log(procs, "controller", "joint_states rejected: NaN")
+        _wait_log(procs, "controller", "safe command: joint_states stale")
+        # a missing joint
+        _publish_for(probe, pub, 0.2, lambda: _state(NAMES[:-1], Q0[:-1], np.zeros(6)))
+        _wait_log(procs, "controller", "missing joints ['joint_6']")
+        # a target in an unknown frame
+        T = np.eye(4)
+        T[:3, 3] = [0.4, 0.0, 0.5]
+        probe.send_target("ee", T, frame_id="no_such_link")
+        _wait_log(procs, "controller", "unknown frame 'no_such_link'")
+        during = np.array(probe.commands[n0:])
+        assert len(during) > 20 and np.all(np.isfinite(during))
+        # the safe command is gravity (+ no damping: velocity unknown while stale): the arm is held
+        np.testing.assert_allclose(during[-1], g, atol=0.5)
+        # states stop altogether: still finite commands, and the node stays up
+        n1 = len(probe.commands)
+        time.sleep(0.5)
+        assert len(probe.commands) > n1 and np.all(np.isfinite(np.array(probe.commands[n1:])))
+        # good data again: control resumes
+        _publish_for(probe, pub, 0.5, lambda: _state())
+        _wait_log(procs, "controller", "recovered from")
+        np.testing.assert_allclose(probe.commands[-1], g, atol=0.5)
+        assert procs.procs[0][0].poll() is None, "the controller must still be running"
+        assert "Traceback" not in procs.log("controller")
+    finally:
+        probe.close()
+        procs.stop()
+
+
+def test_bridge_rejects_bad_commands(tmp_path):
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    procs.start("orca_ros.ros.pybullet_bridge", "-p", "mode:=free_running", "-p", "rate:=200.0",
+                "-p", "gravity_compensation:=true", "-p", "initial_positions:=[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]", name="bridge")
+    probe = Probe(domain)
+    try:
+        pub = probe.pub_command
+        probe.wait_for(lambda: len(probe.states) > 20, 30, "joint states from the bridge")
+        for data in ([1.0, 2.0], [0.0, 0.0, float("nan"), 0.0, 0.0, 0.0, 0.0]):
+            m = Float64MultiArray()
+            m.data = data
+            for _ in range(5):
+                pub.publish(m)
+                time.sleep(0.05)
+        _wait_log(procs, "bridge", "rejected effort command (2 values for 7 joints)")
+        _wait_log(procs, "bridge", "rejected effort command (non-finite values)")
+        n = len(probe.states)
+        time.sleep(0.5)
+        assert len(probe.states) > n, "the bridge keeps publishing"
+        # with emulated gravity compensation and zero command the arm stays where it is
+        np.testing.assert_allclose(probe.last_state()[1], Q0, atol=1e-3)
+        assert "Traceback" not in procs.log("bridge")
+    finally:
+        probe.close()
+        procs.stop()
