@@ -15,8 +15,7 @@ import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "test"))
-from ros_harness import Probe, Procs, free_domain_id  # noqa: E402
+from orca_ros.ros.launch_free import Probe, Procs, free_domain_id  # noqa: E402
 
 import orca_ros as orca  # noqa: E402
 

@@ -3,4 +3,4 @@
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/venv.sh"
 export MPLBACKEND="${MPLBACKEND:-Agg}"
-python -m orca_ros.examples.main_job "$@"
+python -m orca_ros.ros.main_job "$@"

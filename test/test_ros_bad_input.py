@@ -6,7 +6,7 @@ import pytest
 
 pytest.importorskip("rclpy")
 
-from ros_harness import Probe, Procs, free_domain_id  # noqa: E402
+from orca_ros.ros.launch_free import Probe, Procs, free_domain_id  # noqa: E402
 from sensor_msgs.msg import JointState  # noqa: E402
 from std_msgs.msg import Float64MultiArray  # noqa: E402
 

@@ -4,7 +4,7 @@ import pytest
 
 pytest.importorskip("rclpy")
 
-from ros_harness import Probe, Procs, free_domain_id  # noqa: E402
+from orca_ros.ros.launch_free import Probe, Procs, free_domain_id  # noqa: E402
 from std_srvs.srv import SetBool, Trigger  # noqa: E402
 
 import orca_ros as orca  # noqa: E402
@@ -104,3 +104,20 @@ def test_lockstep_runs_are_deterministic(tmp_path):
     np.testing.assert_allclose(a[1], b[1], rtol=0, atol=1e-12)
     np.testing.assert_allclose(a[2], b[2], rtol=0, atol=1e-12)
     assert np.abs(a[1] - np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0])).max() > 0.05  # it did move
+
+
+def test_main_job_reaches_every_target(tmp_path):
+    import os
+    import subprocess
+    import sys
+    import time
+
+    t0 = time.time()
+    proc = subprocess.run([sys.executable, "-m", "orca_ros.ros.main_job", "--output-dir", str(tmp_path)],
+                          capture_output=True, text=True, timeout=120, env=dict(os.environ, MPLBACKEND="Agg"))
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    assert "RESULT: every target reached" in proc.stdout
+    assert proc.stdout.count(" mm ") >= 5 and "NOT REACHED" not in proc.stdout
+    assert (tmp_path / "main_job_torques.png").stat().st_size > 10_000
+    assert (tmp_path / "main_job_path.png").stat().st_size > 10_000
+    assert time.time() - t0 < 120

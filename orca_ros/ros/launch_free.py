@@ -1,5 +1,5 @@
-"""Launch-free multi-process harness: bridge and controller as separate processes on a private ROS domain,
-plus an in-test probe node (the test's hands and eyes)."""
+"""Launch-free multi-process runs: the bridge and the controller as separate processes on a private ROS domain,
+plus a probe node in the calling process (eyes and hands of tests, benchmarks and the main job)."""
 from __future__ import annotations
 
 import os
@@ -57,7 +57,7 @@ class Procs:
 
 
 class Probe:
-    """rclpy node in the test process, spinning in a thread."""
+    """rclpy node in the calling process, spinning in a thread; records states and commands."""
 
     def __init__(self, domain: int, controller_ns: str = "/orca_controller"):
         import rclpy
@@ -78,6 +78,10 @@ class Probe:
         self.states: list = []   # (stamp, q)
         self.commands: list = []
         self.node.create_subscription(JointState, "/joint_states", self._on_state, qos_profile_sensor_data)
+        from diagnostic_msgs.msg import DiagnosticArray
+
+        self.diagnostics: dict = {}
+        self.node.create_subscription(DiagnosticArray, "/diagnostics", self._on_diag, 10)
         self.node.create_subscription(Float64MultiArray, "/effort_controller/commands",
                                       lambda m: self._append(self.commands, np.array(m.data)), COMMAND_QOS)
         self.pub_target = {}
@@ -111,6 +115,12 @@ class Probe:
         if any(f"joint_{i}" not in q for i in range(7)):
             return  # the tests' own malformed states
         self._append(self.states, (stamp, np.array([q[f"joint_{i}"] for i in range(7)]), np.array(m.velocity)))
+
+    def _on_diag(self, m):
+        for st in m.status:
+            with self.lock:
+                self.diagnostics = {kv.key: kv.value for kv in st.values}
+                self.diagnostics["_message"] = st.message
 
     def last_state(self):
         with self.lock:
