@@ -154,7 +154,9 @@ class Probe:
         if task not in self.pub_target:
             self.pub_target[task] = self.node.create_publisher(self.PoseStamped, f"{self.ns}/tasks/{task}/target_pose",
                                                                10)
-            time.sleep(0.5)  # let discovery match the new publisher
+        pub = self.pub_target[task]
+        # a message published before discovery matched the controller's subscription is lost
+        self.wait_for(lambda: pub.get_subscription_count() > 0, 10.0, f"a subscriber on {task}'s target topic")
         msg = self.PoseStamped()
         msg.header.frame_id = frame_id
         matrix_to_pose(T, msg.pose)
