@@ -121,3 +121,28 @@ def test_main_job_reaches_every_target(tmp_path):
     assert (tmp_path / "main_job_torques.png").stat().st_size > 10_000
     assert (tmp_path / "main_job_path.png").stat().st_size > 10_000
     assert time.time() - t0 < 120
+
+
+def test_pause_enable_and_diagnostics(system):
+    import time
+
+    probe, procs = system
+    # bridge pause: simulated time stops (lockstep answers with the same state), unpause resumes it
+    assert probe.call(Trigger, "/pybullet_bridge/pause", Trigger.Request()).success
+    time.sleep(0.3)
+    t_paused = probe.sim_time()
+    time.sleep(0.5)
+    assert probe.sim_time() == t_paused
+    assert probe.call(Trigger, "/pybullet_bridge/unpause", Trigger.Request()).success
+    probe.wait_sim(0.5)
+    # disable: the controller holds with the safe command and says so on /diagnostics; enable resumes
+    assert probe.call(SetBool, "/orca_controller/enable", SetBool.Request(data=False)).success
+    probe.wait_for(lambda: "disabled" in probe.diagnostics.get("_message", ""), 10, "diagnostics reporting the hold")
+    q_hold = probe.last_state()[1]
+    probe.wait_sim(0.5)
+    assert np.abs(probe.last_state()[1] - q_hold).max() < 0.02  # held still (gravity + damping)
+    assert probe.call(SetBool, "/orca_controller/enable", SetBool.Request(data=True)).success
+    probe.wait_for(lambda: probe.diagnostics.get("_message") == "controlling", 10, "diagnostics back to controlling")
+    assert probe.diagnostics["solver_status"] == "success"
+    assert set(probe.diagnostics["active_tasks"].split(",")) == {"ee", "posture"}
+    assert float(probe.diagnostics["solve_time_median_us"]) > 0

@@ -208,6 +208,10 @@ class PyBulletBridge(Node):
 
     def _on_unpause(self, req, res):
         self.paused = False
+        if self.mode == "lockstep":
+            # while paused every command was answered with the same state, which a lockstep controller does
+            # not act on twice: one step with the last command starts the exchange again
+            self._advance()
         res.success, res.message = True, "simulation running"
         return res
 
