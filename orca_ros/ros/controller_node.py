@@ -46,7 +46,7 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         self.state_timeout = float(param(self, "state_timeout", 0.05))
         self.target_timeout = float(param(self, "target_timeout", 0.0))
         self.safe = SafeCommand(self.robot, setup.gravity_compensated_by_hardware,
-                                float(param(self, "safe_damping", 5.0)), float(param(self, "safe_ramp", 0.2)))
+                                float(param(self, "safe_damping", 10.0)), float(param(self, "safe_ramp", 0.2)))
         self._wire_of_model = setup.model_index  # model joint k -> wire slot
         self._q = np.zeros(self.n)
         self._v = np.zeros(self.n)
