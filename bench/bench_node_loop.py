@@ -8,8 +8,6 @@ real time. Usage: python bench/bench_node_loop.py [--seconds 10]
 from __future__ import annotations
 
 import argparse
-import os
-import sys
 import tempfile
 import time
 

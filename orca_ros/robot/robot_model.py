@@ -106,11 +106,9 @@ class RobotModel:
         self._v = np.zeros(self.ndof)
         self._world_H_base = np.eye(4)
         self._base_twist_world = np.zeros(6)
-        root_frame = model.frames[1].name if model.nframes > 1 else WORLD_FRAME
-        # with a floating base the first body frame is the free-flyer's child link
-        self._root_link = self._first_body_frame()
+        # the root link (with a floating base: the free-flyer's child link) is the default base frame
         self._base_frame = None
-        self.set_base_frame(self._root_link or root_frame)
+        self.set_base_frame(self._first_body_frame() or WORLD_FRAME)
         self.set_gravity(np.array([0.0, 0.0, -9.81]))
         self._initialized = False
         self._frame_cache.clear()
@@ -282,10 +280,6 @@ class RobotModel:
 
     def get_base_velocity(self) -> np.ndarray:
         return self._base_twist_world.copy()
-
-    def get_generalized_velocity(self) -> np.ndarray:
-        """nu in the solver's convention (base twist in the base frame, then joint velocities)."""
-        return self._v_pin.copy()
 
     # ------------------------------------------------------------------ dynamics
     def get_mass_matrix(self) -> np.ndarray:

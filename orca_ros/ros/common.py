@@ -53,6 +53,31 @@ def spin(executor, node) -> None:
         executor.spin_once(timeout_sec=0.1)
 
 
+def run_node(node_class, args=None, on_shutdown: str | None = None) -> int:
+    """Console-script body: init, spin ``node_class()`` until Ctrl-C / shutdown, call its ``on_shutdown``
+    method (best effort), clean up."""
+    rclpy.init(args=args)
+    node = None
+    try:
+        node = node_class()
+        executor = make_executor()
+        executor.add_node(node)
+        spin(executor, node)
+    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
+        pass
+    finally:
+        if node is not None:
+            if on_shutdown:
+                try:
+                    getattr(node, on_shutdown)()
+                except Exception:
+                    pass
+            node.destroy_node()
+        if rclpy.ok():
+            rclpy.shutdown()
+    return 0
+
+
 def stamp_to_sec(stamp) -> float:
     return stamp.sec + stamp.nanosec * 1e-9
 

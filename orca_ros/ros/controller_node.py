@@ -16,7 +16,6 @@ import sys
 import time
 
 import numpy as np
-import rclpy
 from rclpy.node import Node
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
@@ -24,7 +23,7 @@ from std_msgs.msg import Float64MultiArray
 from ..configuration import build_from_config
 from ..optim import ReturnCode
 from ..safety import SafeCommand
-from .common import COMMAND_QOS, STATE_QOS, make_executor, spin, nested_parameters, param, stamp_to_sec
+from .common import COMMAND_QOS, STATE_QOS, run_node, nested_parameters, param, stamp_to_sec
 from .controller_interfaces import ControllerInterfaces
 
 
@@ -181,25 +180,7 @@ class OrcaControllerNode(Node, ControllerInterfaces):
 
 
 def main(args=None) -> int:
-    rclpy.init(args=args)
-    node = None
-    try:
-        node = OrcaControllerNode()
-        executor = make_executor()
-        executor.add_node(node)
-        spin(executor, node)
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            try:
-                node.shutdown_command()
-            except Exception:
-                pass
-            node.destroy_node()
-        if rclpy.ok():
-            rclpy.shutdown()
-    return 0
+    return run_node(OrcaControllerNode, args, on_shutdown="shutdown_command")
 
 
 if __name__ == "__main__":

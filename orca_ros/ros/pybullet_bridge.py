@@ -14,7 +14,6 @@ from __future__ import annotations
 import sys
 
 import numpy as np
-import rclpy
 from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
@@ -25,7 +24,7 @@ from std_srvs.srv import Trigger
 from ..configuration import resolve_urdf_path
 from ..robot import RobotModel
 from ..sim import SimServer
-from .common import COMMAND_QOS, STATE_QOS, make_executor, spin, param, sec_to_stamp
+from .common import COMMAND_QOS, STATE_QOS, run_node, param, sec_to_stamp
 
 
 class PyBulletBridge(Node):
@@ -221,21 +220,7 @@ class PyBulletBridge(Node):
 
 
 def main(args=None) -> int:
-    rclpy.init(args=args)
-    node = None
-    try:
-        node = PyBulletBridge()
-        executor = make_executor()
-        executor.add_node(node)
-        spin(executor, node)
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
-    finally:
-        if node is not None:
-            node.destroy_node()
-        if rclpy.ok():
-            rclpy.shutdown()
-    return 0
+    return run_node(PyBulletBridge, args, on_shutdown=None)
 
 
 if __name__ == "__main__":

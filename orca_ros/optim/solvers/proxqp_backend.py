@@ -1,7 +1,6 @@
 """Dense ProxQP back-end (proxsuite) with native box constraints and warm starts."""
 from __future__ import annotations
 
-import numpy as np
 import proxsuite
 
 from .base import QPBackend, ReturnCode
