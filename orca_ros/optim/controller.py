@@ -33,9 +33,9 @@ class Controller:
             resolution_strategy = ResolutionStrategy.from_string(resolution_strategy)
         if isinstance(solver, str):
             solver = QPSolver.from_string(solver)
-        if resolution_strategy is not ResolutionStrategy.ONE_LEVEL_WEIGHTED:
-            raise NotImplementedError(f"resolution strategy {resolution_strategy.value} is not available yet; "
-                                      "use ResolutionStrategy.ONE_LEVEL_WEIGHTED")
+        if resolution_strategy is ResolutionStrategy.GENERALIZED:
+            raise NotImplementedError("resolution strategy generalized is not available yet; use "
+                                      "ONE_LEVEL_WEIGHTED or MULTI_LEVEL_WEIGHTED")
         self.name = name
         self.robot = robot
         self.resolution_strategy = resolution_strategy
@@ -45,6 +45,7 @@ class Controller:
         self._constraints: list[GenericConstraint] = []
         self._problems: list[WeightedProblem] = []
         self._dirty = True
+        self.dropped_levels = 0  # lower priority levels dropped because they could not be solved
         self._solution_found = False
         self._return_code = ReturnCode.NOT_SOLVED
         self._remove_gravity = False
@@ -137,15 +138,28 @@ class Controller:
     on_update_callback = set_update_callback
 
     def _configure(self) -> None:
-        self._problems = [WeightedProblem(self.layout, self._tasks, self._constraints, self.solver, level=0)]
+        if self.resolution_strategy is ResolutionStrategy.ONE_LEVEL_WEIGHTED:
+            self._problems = [WeightedProblem(self.layout, self._tasks, self._constraints, self.solver, level=0)]
+        else:  # strict levels, each weighted inside, each keeping the optimum of the levels above
+            user = self.get_tasks()
+            levels = sorted({t.level for t in user}) or [0]
+            self._problems = [
+                WeightedProblem(self.layout, [self.global_regularisation] + [t for t in user if t.level == lev],
+                                self._constraints, self.solver, level=lev,
+                                locked_tasks=[t for t in user if t.level < lev])
+                for lev in levels]
         # objects without rows for this robot have nothing to compute
         self._updated = [o for o in self._tasks + self._constraints if o.rows() > 0]
         self._dirty = False
 
     def get_problem_at_level(self, level: int = 0) -> WeightedProblem:
+        """The QP of priority level ``level`` (its per-level solution is ``.x``)."""
         if self._dirty:
             self._configure()
-        return self._problems[level]
+        for p in self._problems:
+            if p.level == level:
+                return p
+        raise KeyError(f"controller '{self.name}': no priority level {level} (levels: {self.get_levels()})")
 
     # -------------------------------------------------------------- activation
     def activate_tasks_and_constraints(self) -> None:
@@ -168,9 +182,7 @@ class Controller:
         self.layout.update()
         for obj in self._updated:
             obj.update(current_time, dt)
-        problem = self._problems[0]
-        problem.build()
-        code = problem.solve()
+        problem, code = self._solve_levels()
         self._return_code = code
         if code is ReturnCode.SUCCESS:
             x = problem.x
@@ -186,6 +198,37 @@ class Controller:
         if self._update_cb is not None:
             self._update_cb(current_time, dt)
         return self._solution_found
+
+    def _solve_levels(self):
+        """Solve the level(s) in priority order; returns the problem holding the final solution and its code."""
+        problems = self._problems
+        x_above = None
+        solved = problems[0]
+        code = ReturnCode.SUCCESS
+        for i, problem in enumerate(problems):
+            if i > 0:
+                if not problem.has_work():
+                    continue  # nothing to optimise here: the solution above stands
+                problem.lock(x_above)
+            problem.build()
+            code = problem.solve()
+            if code is not ReturnCode.SUCCESS:
+                if i == 0:
+                    return problem, code
+                # a lower level that cannot be solved under the locks of the levels above is dropped for this
+                # cycle: the solution above is strict and satisfies every constraint
+                _LOG.debug("controller '%s': level %d not solved (%s), keeping level %d's solution",
+                           self.name, problem.level, code.value, solved.level)
+                self.dropped_levels += 1
+                return solved, ReturnCode.SUCCESS
+            x_above, solved = problem.x, problem
+        return solved, code
+
+    def get_levels(self) -> list[int]:
+        """Priority levels of the current problem stack (one entry for ONE_LEVEL_WEIGHTED)."""
+        if self._dirty:
+            self._configure()
+        return [p.level for p in self._problems]
 
     def _make_command(self) -> None:
         cmd = self._tau_cmd
@@ -225,8 +268,9 @@ class Controller:
     def compute_kkt_torques(self) -> np.ndarray:
         """Torques of the equality-only problem (tasks + equalities, no inequality or box constraints),
         from the matrices of the last update. A usable fallback when the QP has no solution."""
-        problem = self.get_problem_at_level(0)
-        x = problem.solve_equality_only()
+        if self._dirty:
+            self._configure()
+        x = self._problems[-1].solve_equality_only()
         tau = self.layout.T @ x + self.layout.t0
         return tau
 

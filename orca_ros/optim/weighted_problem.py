@@ -1,5 +1,10 @@
 """One weighted QP level: tasks summed with their (ramped) weights, all constraints applied.
 
+In a strict hierarchy (MULTI_LEVEL_WEIGHTED) a level also receives the tasks of every level above it as
+*locked* tasks: equality rows diag(s) E x = diag(s) E x*, with x* the solution of the level just above, so the
+optimal residuals of the higher levels are kept exactly (whether or not those levels could reach their targets)
+and this level only optimises in what they leave free.
+
 Sizes, row offsets and the solver's sparsity pattern are fixed when the problem is created (at
 configuration time); :meth:`build` only writes values into preallocated arrays.
 """
@@ -14,10 +19,11 @@ _LOG = get_logger("optim")
 
 
 class WeightedProblem:
-    def __init__(self, layout, tasks, constraints, solver, level: int = 0):
+    def __init__(self, layout, tasks, constraints, solver, level: int = 0, locked_tasks=()):
         self.layout = layout
         self.level = level
         self.tasks = list(tasks)
+        self.locked = list(locked_tasks)
         self.solver_type = solver
         nx = layout.nx
         # constraints without rows for this robot (e.g. the dynamics' floating-base rows on a fixed base)
@@ -29,7 +35,10 @@ class WeightedProblem:
         self.hard_box = [c for c in constraints if c.kind == "box" and c.hard]
         self._eq_rows = self._offsets(self.eq)
         self._in_rows = self._offsets(self.ineq)
-        self.n_eq = sum(c.rows() for c in self.eq)
+        self.n_eq_constraints = sum(c.rows() for c in self.eq)
+        self._lock_rows = [slice(self.n_eq_constraints + r.start, self.n_eq_constraints + r.stop)
+                           for r in self._offsets(self.locked)]
+        self.n_eq = self.n_eq_constraints + sum(t.rows() for t in self.locked)
         self.n_in = sum(c.rows() for c in self.ineq)
         self.H = np.zeros((nx, nx))
         self.g = np.zeros(nx)
@@ -55,6 +64,20 @@ class WeightedProblem:
             out.append(slice(k, k + m))
             k += m
         return out
+
+    def has_work(self) -> bool:
+        """False when no task of this level contributes this cycle (the level can be skipped)."""
+        return any(t.get_effective_weight() > 0.0 for t in self.tasks if not t.identity_E)
+
+    def lock(self, x_above: np.ndarray) -> None:
+        """Keep the residuals the higher levels reached at x_above (their tasks' E, f of this cycle)."""
+        for t, rows in zip(self.locked, self._lock_rows):
+            if t.get_effective_weight() > 0.0:
+                np.multiply(t.E, t.selection[:, None], out=self.A[rows])
+                np.dot(self.A[rows], x_above, out=self.b[rows])
+            else:
+                self.A[rows] = 0.0
+                self.b[rows] = 0.0
 
     # -------------------------------------------------------------- build
     def build(self) -> None:

@@ -1,0 +1,92 @@
+"""MULTI_LEVEL_WEIGHTED: strict priorities between levels, weights inside each level."""
+import numpy as np
+import pytest
+
+import orca_ros as orca
+from orca_ros.examples.common import add_standard_constraints
+
+Q = np.array([0.3, 0.7, -0.2, -1.1, 0.4, 0.6, 0.1])
+V = np.array([0.2, -0.1, 0.3, 0.0, -0.2, 0.1, 0.0])
+
+
+def _controller(urdf, strategy, solver, with_elbow=True, with_posture=False):
+    robot = orca.RobotModel()
+    robot.load_model_from_file(urdf)
+    robot.set_robot_state(Q, V)
+    c = orca.Controller("c", robot, strategy, solver)
+    ee = c.add_task(orca.CartesianTask, "ee", level=0)
+    ee.set_control_frame("link_7")
+    ee.servo_controller().pid().set_proportional_gain(200.0)
+    ee.servo_controller().pid().set_derivative_gain(28.0)
+    T = robot.get_frame_pose("link_7")
+    T[:3, 3] += [0.05, -0.08, 0.04]
+    ee.servo_controller().set_desired(T)
+    ee.set_selection_vector([1, 1, 1, 0, 0, 0])  # position: 3 of 7 DoF
+    if with_elbow:
+        elbow = c.add_task(orca.CartesianTask, "elbow", level=1)
+        elbow.set_control_frame("link_4")
+        elbow.servo_controller().pid().set_proportional_gain(300.0)
+        elbow.servo_controller().pid().set_derivative_gain(35.0)
+        Te = robot.get_frame_pose("link_4")
+        Te[:3, 3] += [-0.2, 0.3, -0.1]  # pulls elsewhere
+        elbow.servo_controller().set_desired(Te)
+        elbow.set_selection_vector([1, 1, 1, 0, 0, 0])
+        elbow.set_weight(10.0)  # a weight this large would dominate a single weighted level
+    if with_posture:
+        post = c.add_task(orca.JointAccelerationTask, "posture", level=2)
+        post.pid().set_proportional_gain(50.0)
+        post.pid().set_derivative_gain(14.0)
+        post.set_desired(np.zeros(7))
+    add_standard_constraints(c)
+    c.activate_tasks_and_constraints()
+    assert c.update(0.0, 0.001), c.get_return_code()
+    return robot, c
+
+
+def _residual(c, name):
+    return c.get_task(name).residual(c.get_reduced_solution())
+
+
+@pytest.mark.parametrize("solver", [orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
+def test_level_zero_unaffected_by_level_one(lwr_urdf, solver):
+    MLW = orca.ResolutionStrategy.MULTI_LEVEL_WEIGHTED
+    _, alone = _controller(lwr_urdf, MLW, solver, with_elbow=False)
+    _, both = _controller(lwr_urdf, MLW, solver, with_elbow=True)
+    assert both.get_levels() == [0, 1]
+    np.testing.assert_allclose(_residual(both, "ee"), _residual(alone, "ee"), atol=1e-8)
+    # the level-1 task did change the solution (it had room in the 4 remaining DoF)
+    assert np.linalg.norm(both.get_reduced_solution() - alone.get_reduced_solution()) > 1e-3
+    # with one weighted level the same two tasks do interfere
+    _, weighted = _controller(lwr_urdf, orca.ResolutionStrategy.ONE_LEVEL_WEIGHTED, solver, with_elbow=True)
+    assert np.linalg.norm(_residual(weighted, "ee") - _residual(alone, "ee")) > 1e-3
+
+
+def test_three_levels_are_strict(lwr_urdf):
+    MLW = orca.ResolutionStrategy.MULTI_LEVEL_WEIGHTED
+    _, two = _controller(lwr_urdf, MLW, orca.QPSolver.PROXQP, with_elbow=True)
+    _, three = _controller(lwr_urdf, MLW, orca.QPSolver.PROXQP, with_elbow=True, with_posture=True)
+    assert three.get_levels() == [0, 1, 2]
+    np.testing.assert_allclose(_residual(three, "ee"), _residual(two, "ee"), atol=1e-8)
+    np.testing.assert_allclose(_residual(three, "elbow"), _residual(two, "elbow"), atol=1e-8)
+    assert three.get_problem_at_level(2).x is not None
+    # every level's solution satisfies the constraints
+    for lev in three.get_levels():
+        p = three.get_problem_at_level(lev)
+        assert p.max_constraint_violation(p.x) < 1e-6
+
+
+
+def test_level_that_cannot_be_solved_is_dropped_not_the_controller(lwr_urdf):
+    """Level 0 on a torque limit: the level below it may be numerically infeasible under the lock; the
+    controller then keeps the (strict, feasible) solution of level 0 instead of failing."""
+    MLW = orca.ResolutionStrategy.MULTI_LEVEL_WEIGHTED
+    robot, c = _controller(lwr_urdf, MLW, orca.QPSolver.PROXQP, with_elbow=True)
+    _, alone = _controller(lwr_urdf, MLW, orca.QPSolver.PROXQP, with_elbow=False)
+    for ctrl in (c, alone):
+        lim = np.abs(ctrl.robot.get_joint_gravity_torques()) + 8.0
+        ctrl.get_constraint("JointTorqueLimit").set_limits(-lim, lim)
+        ctrl.get_task("ee").servo_controller().pid().set_proportional_gain(5000.0)
+        assert ctrl.update(0.001, 0.001)
+    np.testing.assert_allclose(_residual(c, "ee"), _residual(alone, "ee"), atol=1e-7)
+    tau = c.get_joint_torque_command()
+    assert np.all(np.abs(tau) <= lim + 1e-6)
