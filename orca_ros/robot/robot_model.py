@@ -83,16 +83,16 @@ class RobotModel:
         for j in self._joint_ids:
             jm = model.joints[j]
             if jm.nq == jm.nv == 1:
-                self._q_map.append((jm.idx_q, jm.idx_v, 1))
+                self._q_map.append((jm.idx_q, 1))
             elif jm.nq == 2 and jm.nv == 1:
-                self._q_map.append((jm.idx_q, jm.idx_v, 2))
+                self._q_map.append((jm.idx_q, 2))
                 self._q_simple = False
             else:
                 raise ValueError(f"joint '{model.names[j]}' of type {jm.shortname()} is not supported "
                                  "(only 1-DoF revolute/prismatic/continuous joints)")
         lower = np.full(self.ndof, -np.inf)
         upper = np.full(self.ndof, np.inf)
-        for k, (iq, iv, nq) in enumerate(self._q_map):
+        for k, (iq, nq) in enumerate(self._q_map):
             if nq == 1:
                 lower[k], upper[k] = model.lowerPositionLimit[iq], model.upperPositionLimit[iq]
         lower[lower < -1e10] = -np.inf
@@ -189,7 +189,7 @@ class RobotModel:
         if self._q_simple:
             self._q_pin[model.nq - self.ndof:] = q
         else:
-            for k, (iq, _, nq) in enumerate(self._q_map):
+            for k, (iq, nq) in enumerate(self._q_map):
                 if nq == 1:
                     self._q_pin[iq] = q[k]
                 else:

@@ -21,7 +21,6 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
 
 from ..configuration import build_from_config
-from ..optim import ReturnCode
 from ..safety import SafeCommand
 from .common import COMMAND_QOS, STATE_QOS, run_node, nested_parameters, param, stamp_to_sec
 from .controller_interfaces import ControllerInterfaces
@@ -173,10 +172,6 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         """On shutdown: hold the arm (gravity, or zero when the hardware compensates it)."""
         if self._have_state:
             self._publish(self.safe.hold(self._q, None))
-
-    @property
-    def last_return_code(self) -> ReturnCode:
-        return self.controller.get_return_code()
 
 
 def main(args=None) -> int:

@@ -75,7 +75,6 @@ class PyBulletBridge(Node):
         self._cmd = np.zeros(len(joints))
         self._got_command = False
         self._last_cmd_time = None
-        self._bad_cmds = 0
 
         self.pub_js = self.create_publisher(JointState, "joint_states", STATE_QOS)
         self.pub_odom = self.create_publisher(Odometry, "odom", STATE_QOS) if self.floating else None
@@ -103,7 +102,6 @@ class PyBulletBridge(Node):
     def _on_command(self, msg: Float64MultiArray) -> None:
         cmd = np.asarray(msg.data, dtype=float)
         if cmd.size != len(self.joints) or not np.all(np.isfinite(cmd)):
-            self._bad_cmds += 1
             log = self.get_logger()
             # one call site per reason: rclpy throttles per call site
             if cmd.size != len(self.joints):

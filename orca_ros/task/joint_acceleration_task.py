@@ -25,13 +25,7 @@ class JointAccelerationTask(GenericTask):
         super().set_robot_model(robot)
         n = robot.get_nr_of_degrees_of_freedom()
         if self._pid.dimension != n:
-            gains = None
-            if self._pid.dimension:
-                gains = (self._pid.get_proportional_gain(), self._pid.get_derivative_gain())
-            self._pid.resize(n)
-            if gains is not None and gains[0].size == 1:
-                self._pid.set_proportional_gain(gains[0][0])
-                self._pid.set_derivative_gain(gains[1][0])
+            self._pid.resize(n)  # gains are set per joint, so only once the robot is known
         if self._q_ref.size != n:
             self._q_ref, self._qd_ref, self._qdd_ref = np.zeros(n), np.zeros(n), np.zeros(n)
             self._q_err, self._qd_err = np.zeros(n), np.zeros(n)
