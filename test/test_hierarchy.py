@@ -75,10 +75,48 @@ def test_three_levels_are_strict(lwr_urdf):
         assert p.max_constraint_violation(p.x) < 1e-6
 
 
+def _saturated(urdf, strategy, solver, with_elbow):
+    """Level 0 pulled with kp 300 under torque limits 40 Nm above gravity: its target is out of reach."""
+    robot, c = _controller(urdf, strategy, solver, with_elbow=with_elbow)
+    lim = np.abs(robot.get_joint_gravity_torques()) + 40.0
+    c.get_constraint("JointTorqueLimit").set_limits(-lim, lim)
+    c.get_task("ee").servo_controller().pid().set_proportional_gain(300.0)
+    assert c.update(0.001, 0.001), c.get_return_code()
+    return c, lim
 
-def test_level_that_cannot_be_solved_is_dropped_not_the_controller(lwr_urdf):
-    """Level 0 on a torque limit: the level below it may be numerically infeasible under the lock; the
-    controller then keeps the (strict, feasible) solution of level 0 instead of failing."""
+
+@pytest.mark.parametrize("solver", [orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
+def test_unachievable_level_zero_leaves_room_to_level_one(lwr_urdf, solver):
+    MLW = orca.ResolutionStrategy.MULTI_LEVEL_WEIGHTED
+    both, lim = _saturated(lwr_urdf, MLW, solver, True)
+    alone, _ = _saturated(lwr_urdf, MLW, solver, False)
+    weighted, _ = _saturated(lwr_urdf, orca.ResolutionStrategy.ONE_LEVEL_WEIGHTED, solver, True)
+    # level 0 is achievable with the URDF's torque limits, not with these: its residual stays, limits active
+    _, free = _controller(lwr_urdf, MLW, solver, with_elbow=False)
+    free.get_task("ee").servo_controller().pid().set_proportional_gain(300.0)
+    assert free.update(0.001, 0.001)
+    assert np.linalg.norm(_residual(free, "ee")) < 0.05  # (the regularisation alone costs ~0.02)
+    r0 = _residual(alone, "ee")
+    assert np.linalg.norm(r0) > 1.0
+    tau = both.get_joint_torque_command()
+    assert np.all(np.abs(tau) <= lim + 1e-6)
+    assert np.any(np.abs(tau) > lim - 1e-6)
+    # level 1 was solved (not dropped) and kept level 0's (unachieved) optimum exactly
+    assert both.dropped_levels == 0
+    assert both.get_problem_at_level(1).return_code is orca.ReturnCode.SUCCESS
+    np.testing.assert_allclose(_residual(both, "ee"), r0, atol=1e-7)
+    # ... while optimising its own task in what was left
+    elbow = both.get_task("elbow")
+    e_both = np.linalg.norm(elbow.residual(both.get_reduced_solution()))
+    e_alone = np.linalg.norm(elbow.residual(alone.get_reduced_solution()))
+    assert e_both < 0.97 * e_alone
+    # a single weighted level (elbow weight 10) gives level 0 a clearly worse residual
+    assert np.linalg.norm(_residual(weighted, "ee")) > 10.0 * np.linalg.norm(r0)
+
+
+def test_level_with_no_room_left_keeps_the_solution_above(lwr_urdf):
+    """Level 0 on the acceleration and torque limits leaves level 1 nothing: the cascade returns level 0's
+    solution (strict, feasible) whether the solver finds z = 0 or fails on the degenerate problem."""
     MLW = orca.ResolutionStrategy.MULTI_LEVEL_WEIGHTED
     robot, c = _controller(lwr_urdf, MLW, orca.QPSolver.PROXQP, with_elbow=True)
     _, alone = _controller(lwr_urdf, MLW, orca.QPSolver.PROXQP, with_elbow=False)
@@ -88,5 +126,19 @@ def test_level_that_cannot_be_solved_is_dropped_not_the_controller(lwr_urdf):
         ctrl.get_task("ee").servo_controller().pid().set_proportional_gain(5000.0)
         assert ctrl.update(0.001, 0.001)
     np.testing.assert_allclose(_residual(c, "ee"), _residual(alone, "ee"), atol=1e-7)
+    elbow = c.get_task("elbow")
+    assert (np.linalg.norm(elbow.residual(c.get_reduced_solution()))
+            <= np.linalg.norm(elbow.residual(alone.get_reduced_solution())) + 1e-9)
     tau = c.get_joint_torque_command()
     assert np.all(np.abs(tau) <= lim + 1e-6)
+
+
+def test_changing_a_level_rebuilds_the_stack(lwr_urdf):
+    MLW = orca.ResolutionStrategy.MULTI_LEVEL_WEIGHTED
+    _, c = _controller(lwr_urdf, MLW, orca.QPSolver.PROXQP, with_elbow=True)
+    assert c.get_levels() == [0, 1]
+    c.get_task("elbow").set_priority_level(3)
+    assert c.get_levels() == [0, 3]
+    text = c.describe()
+    assert "level 0 [" in text and "level 3 [" in text
+    assert text.index("ee") < text.index("level 3") < text.index("elbow")

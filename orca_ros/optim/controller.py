@@ -16,6 +16,8 @@ from ..constraint.generic_constraint import GenericConstraint
 from ..task.generic_task import GenericTask
 from ..task.regularisation_task import RegularisationTask
 from ..utils.logger import get_logger
+from .generalized import GeneralizedPriorities
+from .lower_level_problem import LowerLevelProblem
 from .problem_layout import ProblemLayout
 from .resolution_strategy import ResolutionStrategy
 from .solvers import QPSolver, ReturnCode
@@ -33,9 +35,6 @@ class Controller:
             resolution_strategy = ResolutionStrategy.from_string(resolution_strategy)
         if isinstance(solver, str):
             solver = QPSolver.from_string(solver)
-        if resolution_strategy is ResolutionStrategy.GENERALIZED:
-            raise NotImplementedError("resolution strategy generalized is not available yet; use "
-                                      "ONE_LEVEL_WEIGHTED or MULTI_LEVEL_WEIGHTED")
         self.name = name
         self.robot = robot
         self.resolution_strategy = resolution_strategy
@@ -44,6 +43,9 @@ class Controller:
         self._tasks: list[GenericTask] = []
         self._constraints: list[GenericConstraint] = []
         self._problems: list[WeightedProblem] = []
+        self._references: list[WeightedProblem | None] = []  # GENERALIZED: weighted reference per level
+        self._level_tasks: list[list[GenericTask]] = []      # the user tasks of each level
+        self.priorities = GeneralizedPriorities()
         self._dirty = True
         self.dropped_levels = 0  # lower priority levels dropped because they could not be solved
         self._solution_found = False
@@ -83,6 +85,7 @@ class Controller:
         if any(o.name == obj.name for o in self._tasks + self._constraints):
             raise ValueError(f"controller '{self.name}': a task or constraint named '{obj.name}' already exists")
         self._attach(obj)
+        obj._owner = self
         into.append(obj)
         self._dirty = True
         return obj
@@ -100,7 +103,34 @@ class Controller:
 
     def remove_task(self, name: str) -> None:
         self._tasks.remove(self.get_task(name))
+        self.priorities.forget(name)
         self._dirty = True
+
+    def set_priority(self, high: str, low: str, value: float) -> None:
+        """GENERALIZED: priority in [0, 1] of task ``high`` over task ``low`` (0 weighted, 1 strict); may
+        change every cycle. ``high`` must sit on a higher level (smaller number) than ``low``."""
+        if self.resolution_strategy is not ResolutionStrategy.GENERALIZED:
+            raise ValueError(f"controller '{self.name}': priority values need the GENERALIZED strategy "
+                             f"(this one is {self.resolution_strategy.value})")
+        th, tl = self.get_task(high), self.get_task(low)
+        if not th.level < tl.level:
+            raise ValueError(f"set_priority('{high}', '{low}'): '{high}' (level {th.level}) must be on a "
+                             f"higher level than '{low}' (level {tl.level})")
+        self.priorities.set(high, low, value)
+
+    def set_priority_matrix(self, names, matrix) -> None:
+        """GENERALIZED: matrix[i][j] = priority of task names[i] over names[j]; only entries with
+        level(i) < level(j) are read, the rest must be left at 0 or 1 (ignored)."""
+        m = np.asarray(matrix, dtype=float)
+        if m.shape != (len(names), len(names)):
+            raise ValueError(f"priority matrix must be {len(names)}x{len(names)}, got {m.shape}")
+        for i, hi in enumerate(names):
+            for j, lo in enumerate(names):
+                if self.get_task(hi).level < self.get_task(lo).level:
+                    self.set_priority(hi, lo, m[i, j])
+
+    def get_priority(self, high: str, low: str) -> float:
+        return self.priorities.get(high, low)
 
     def remove_constraint(self, name: str) -> None:
         self._constraints.remove(self.get_constraint(name))
@@ -140,14 +170,30 @@ class Controller:
     def _configure(self) -> None:
         if self.resolution_strategy is ResolutionStrategy.ONE_LEVEL_WEIGHTED:
             self._problems = [WeightedProblem(self.layout, self._tasks, self._constraints, self.solver, level=0)]
-        else:  # strict levels, each weighted inside, each keeping the optimum of the levels above
+            self._level_tasks = [self.get_tasks()]
+            self._references = [None]
+        else:  # levels in order, each weighted inside, each keeping (some of) the optimum of the levels above
             user = self.get_tasks()
             levels = sorted({t.level for t in user}) or [0]
-            self._problems = [
-                WeightedProblem(self.layout, [self.global_regularisation] + [t for t in user if t.level == lev],
-                                self._constraints, self.solver, level=lev,
-                                locked_tasks=[t for t in user if t.level < lev])
-                for lev in levels]
+            generalized = self.resolution_strategy is ResolutionStrategy.GENERALIZED
+            reg = [self.global_regularisation]
+            self._level_tasks = [[t for t in user if t.level == lev] for lev in levels]
+            self._problems, self._references = [], []
+            for i, lev in enumerate(levels):
+                own = self._level_tasks[i]
+                above = [t for t in user if t.level < lev]
+                if i == 0:
+                    self._problems.append(WeightedProblem(self.layout, reg + own, self._constraints, self.solver,
+                                                          level=lev))
+                    self._references.append(None)
+                    continue
+                # GENERALIZED: the costs of the levels above stay in the level (constant when locked)
+                cost = reg + above + own if generalized else reg + own
+                self._problems.append(LowerLevelProblem(self.layout, cost, self._constraints, self.solver,
+                                                        level=lev, locked_tasks=above))
+                self._references.append(
+                    WeightedProblem(self.layout, reg + above + own, self._constraints, self.solver, level=lev)
+                    if generalized else None)
         # objects without rows for this robot have nothing to compute
         self._updated = [o for o in self._tasks + self._constraints if o.rows() > 0]
         self._dirty = False
@@ -207,16 +253,20 @@ class Controller:
         code = ReturnCode.SUCCESS
         for i, problem in enumerate(problems):
             if i > 0:
-                if not problem.has_work():
+                own = self._level_tasks[i]
+                if not any(t.get_effective_weight() > 0.0 for t in own):
                     continue  # nothing to optimise here: the solution above stands
-                problem.lock(x_above)
+                band = None
+                if self._references[i] is not None:
+                    band = self.priorities.bands(problem, own, self._references[i], x_above)
+                problem.lock(x_above, band)
             problem.build()
             code = problem.solve()
             if code is not ReturnCode.SUCCESS:
                 if i == 0:
                     return problem, code
-                # a lower level that cannot be solved under the locks of the levels above is dropped for this
-                # cycle: the solution above is strict and satisfies every constraint
+                # lower levels are feasible by construction (see lower_level_problem); should a solver still
+                # fail, the level is dropped for this cycle: the solution above satisfies every constraint
                 _LOG.debug("controller '%s': level %d not solved (%s), keeping level %d's solution",
                            self.name, problem.level, code.value, solved.level)
                 self.dropped_levels += 1
@@ -283,8 +333,21 @@ class Controller:
                  f"robot '{self.robot.name}' {lay.ndof} dof, {'floating' if lay.nbase else 'fixed'} base, "
                  f"QP variables {lay.nx}",
                  f"  last return code: {self._return_code.value}"]
-        lines.append("  tasks:")
-        lines += [f"    {t.describe()}" for t in self._tasks]
+        if self.resolution_strategy is ResolutionStrategy.ONE_LEVEL_WEIGHTED:
+            lines.append("  tasks (one weighted level):")
+            lines += [f"    {t.describe()}" for t in self._tasks]
+        else:
+            if self._dirty:
+                self._configure()
+            lines.append(f"  tasks, {len(self._problems)} priority level(s), highest first "
+                         f"(+ {self.global_regularisation.describe()} in each):")
+            for p, own in zip(self._problems, self._level_tasks):
+                state = p.return_code.value
+                lines.append(f"    level {p.level} [{state}]:")
+                lines += [f"      {t.describe()}" for t in own]
+            if self.resolution_strategy is ResolutionStrategy.GENERALIZED:
+                lines.append("  priorities (default 1 = strict between levels): " + (", ".join(
+                    f"{h} > {lo}: {a:g}" for (h, lo), a in self.priorities.items()) or "all strict"))
         lines.append("  constraints:")
         lines += [f"    {c.describe()}" for c in self._constraints]
         if self._solution_found:

@@ -1,9 +1,8 @@
 """One weighted QP level: tasks summed with their (ramped) weights, all constraints applied.
 
-In a strict hierarchy (MULTI_LEVEL_WEIGHTED) a level also receives the tasks of every level above it as
-*locked* tasks: equality rows diag(s) E x = diag(s) E x*, with x* the solution of the level just above, so the
-optimal residuals of the higher levels are kept exactly (whether or not those levels could reach their targets)
-and this level only optimises in what they leave free.
+In a strict hierarchy a level also receives the tasks of every level above it as *locked* tasks: rows
+diag(s) E x = diag(s) E x*, with x* the solution of the level just above (see :mod:`.lower_level_problem`,
+which solves such a level relative to x*; here the rows only describe the problem, e.g. for a KKT solve).
 
 Sizes, row offsets and the solver's sparsity pattern are fixed when the problem is created (at
 configuration time); :meth:`build` only writes values into preallocated arrays.
@@ -51,10 +50,13 @@ class WeightedProblem:
         self.ubox = np.full(nx, np.inf)
         self._lo = np.empty(layout.ndof)
         self._hi = np.empty(layout.ndof)
-        self.backend = make_backend(solver, nx, self.n_eq, self.n_in)
+        self.backend = self._make_backend()
         self.x = np.zeros(nx)
         self.return_code = ReturnCode.NOT_SOLVED
         self.box_conflicts = 0
+
+    def _make_backend(self):
+        return make_backend(self.solver_type, self.layout.nx, self.n_eq, self.n_in)
 
     @staticmethod
     def _offsets(cons):
@@ -64,10 +66,6 @@ class WeightedProblem:
             out.append(slice(k, k + m))
             k += m
         return out
-
-    def has_work(self) -> bool:
-        """False when no task of this level contributes this cycle (the level can be skipped)."""
-        return any(t.get_effective_weight() > 0.0 for t in self.tasks if not t.identity_E)
 
     def lock(self, x_above: np.ndarray) -> None:
         """Keep the residuals the higher levels reached at x_above (their tasks' E, f of this cycle)."""

@@ -14,6 +14,7 @@ class GenericTask(TaskBase):
         self.layout = None
         self.weight = 1.0
         self.level = 0
+        self._owner = None  # the controller holding the task (its problem stack depends on the level)
         self._selection_request: np.ndarray | None = None
         self.E = np.zeros((0, 0))
         self.f = np.zeros(0)
@@ -49,6 +50,8 @@ class GenericTask(TaskBase):
     def set_priority_level(self, level: int) -> None:
         if int(level) < 0:
             raise ValueError("priority level must be >= 0")
+        if int(level) != self.level and self._owner is not None:
+            self._owner._dirty = True  # the levels are rebuilt at the next update
         self.level = int(level)
 
     def set_selection_vector(self, selection) -> None:

@@ -87,6 +87,13 @@ class OSQPBackend(QPBackend):
     def solve(self, H, g, A, b, C, l, u, lbox, ubox) -> ReturnCode:
         Px, Ax = self._values(H, A, C)
         lo, hi = self._bounds(b, l, u, lbox, ubox)
+        warm = self._solver is not None
+        code = self._solve_once(Px, Ax, g, lo, hi)
+        if code is not ReturnCode.SUCCESS and warm:
+            code = self._solve_once(Px, Ax, g, lo, hi)  # once more from a fresh setup (cold start)
+        return code
+
+    def _solve_once(self, Px, Ax, g, lo, hi) -> ReturnCode:
         try:
             if self._solver is None:
                 P = self._P_pattern.copy()

@@ -12,18 +12,24 @@ _STATUS = proxsuite.proxqp.QPSolverOutput
 class ProxQPBackend(QPBackend):
     name = "proxqp"
 
-    def __init__(self, nx: int, n_eq: int, n_in: int, eps_abs: float = 1e-9, max_iter: int = 1000):
+    def __init__(self, nx: int, n_eq: int, n_in: int, eps_abs: float = 1e-9, max_iter: int = 1000,
+                 box: bool = True):
         super().__init__(nx, n_eq, n_in)
+        self.box = box  # without: lbox/ubox are ignored (infinite box rows mislead ProxQP's infeasibility test)
         self.eps_abs = eps_abs
         self.max_iter = max_iter
         self._make()
 
     def _make(self) -> None:
-        qp = _dense.QP(self.nx, self.n_eq, self.n_in, True)
+        qp = _dense.QP(self.nx, self.n_eq, self.n_in, self.box)
         st = qp.settings
         st.eps_abs = self.eps_abs
         st.eps_rel = 0.0
         st.max_iter = self.max_iter
+        # the default infeasibility thresholds (1e-4) declare feasible control QPs with active torque limits
+        # infeasible within ~10 iterations (measured); true infeasibility is still detected at these
+        st.eps_primal_inf = 1e-10
+        st.eps_dual_inf = 1e-10
         st.verbose = False
         st.compute_timings = False
         self._qp = qp
@@ -33,20 +39,37 @@ class ProxQPBackend(QPBackend):
         self._make()
 
     def solve(self, H, g, A, b, C, l, u, lbox, ubox) -> ReturnCode:
-        qp = self._qp
         if self.n_eq == 0:
             A = b = None
         if self.n_in == 0:
             C = l = u = None
+        if not self.box:
+            lbox = ubox = None
+        warm = self._initialized
+        code = self._solve_once(H, g, A, b, C, l, u, lbox, ubox)
+        if code is not ReturnCode.SUCCESS and warm:
+            # a warm start from a different problem (limits or targets that moved) can make ProxQP declare a
+            # feasible problem infeasible within a few iterations (measured): retry once from a cold start
+            code = self._solve_once(H, g, A, b, C, l, u, lbox, ubox)
+        return code
+
+    def _solve_once(self, H, g, A, b, C, l, u, lbox, ubox) -> ReturnCode:
+        qp = self._qp
         try:
             if not self._initialized:
-                qp.init(H, g, A, b, C, l, u, lbox, ubox)
+                if self.box:
+                    qp.init(H, g, A, b, C, l, u, lbox, ubox)
+                else:
+                    qp.init(H, g, A, b, C, l, u)
                 qp.solve()
                 # warm starting needs a previous result: switching it on before the first solve crashes
                 qp.settings.initial_guess = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
                 self._initialized = True
             else:
-                qp.update(H, g, A, b, C, l, u, lbox, ubox)
+                if self.box:
+                    qp.update(H, g, A, b, C, l, u, lbox, ubox)
+                else:
+                    qp.update(H, g, A, b, C, l, u)
                 qp.solve()
         except Exception:  # proxsuite raises on inconsistent data; caller reports
             self._make()

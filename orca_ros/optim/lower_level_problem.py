@@ -1,0 +1,138 @@
+"""A priority level below others, solved *relative* to the solution of the level just above.
+
+With x_ref the solution of the level above, the level solves for the step z = x - x_ref:
+
+* the tasks of the levels above are *locked*: their rows diag(s) E_i keep the value they had at x_ref,
+  either exactly (strict priority: z lives in the null space of every locked row and of the constraint
+  equalities, x = x_ref + N y, with N an orthonormal basis from an SVD, so the locks cost no equality row
+  and can never conflict with an inequality) or up to a per-row band |diag(s) E_i z| <= band (the
+  generalized priorities of :mod:`orca_ros.optim.generalized`);
+* every inequality and bound of the original problem is kept, relaxed only so that z = 0 stays feasible:
+  l' = min(l - C x_ref, 0), u' = max(u - C x_ref, 0). x_ref satisfies the constraints to the tolerance of
+  the solver that produced it; without this relaxation a level above sitting on a limit (e.g. a task that
+  cannot be achieved within the torque limits) leaves the levels below a problem that a solver may call
+  infeasible by a rounding error. With it, each lower level is feasible by construction, never makes a
+  constraint worse than the level above left it, and the residuals reached above are kept whatever they
+  are (achieved or not): the "slack" of an unachievable level is frozen at its optimum.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .solvers import ReturnCode, make_backend
+from .weighted_problem import WeightedProblem
+
+_RANK_TOL = 1e-9  # singular values below this (relative to the largest, at least 1) count as zero
+
+
+class LowerLevelProblem(WeightedProblem):
+    def __init__(self, layout, tasks, constraints, solver, level: int, locked_tasks):
+        super().__init__(layout, tasks, constraints, solver, level=level, locked_tasks=locked_tasks)
+        nx = layout.nx
+        n_lock = self.n_eq - self.n_eq_constraints
+        self.x_ref = np.zeros(nx)
+        self.band: np.ndarray | None = None  # None: strict locks
+        # strict form: variables y (nx, padded), rows [C N; N] (inequalities and bounds on x)
+        self._N = np.zeros((nx, nx))
+        self._Hs = np.zeros((nx, nx))
+        self._gs = np.zeros(nx)
+        self._Cs = np.zeros((self.n_in + nx, nx))
+        self._ls = np.zeros(self.n_in + nx)
+        self._us = np.zeros(self.n_in + nx)
+        self._free = np.full(nx, np.inf)
+        self.strict_backend = make_backend(solver, nx, 0, self.n_in + nx, box=False)
+        # banded form: variables z (nx), equalities A_eq z = 0, rows [C; locks], bounds on z
+        self._Ab = np.zeros((self.n_eq_constraints, nx))
+        self._bb = np.zeros(self.n_eq_constraints)
+        self._Cb = np.zeros((self.n_in + n_lock, nx))
+        self._lb = np.zeros(self.n_in + n_lock)
+        self._ub = np.zeros(self.n_in + n_lock)
+        self._lboxb = np.zeros(nx)
+        self._uboxb = np.zeros(nx)
+        self.banded_backend = None
+        self.null_space_dimension = nx
+
+    def _make_backend(self):
+        return None  # the level's own back-ends are made in __init__ (strict / banded forms)
+
+    def lock(self, x_above: np.ndarray, band: np.ndarray | None = None) -> None:
+        """Keep the locked rows at their value at x_above, exactly (band None or all zero) or to +-band."""
+        super().lock(x_above)
+        self.x_ref[:] = x_above
+        if band is not None and not np.any(band > 0.0):
+            band = None
+        self.band = band
+
+    # -------------------------------------------------------------- solve
+    def solve(self) -> ReturnCode:
+        if not np.isfinite(self.H.sum() + self.g.sum()):
+            self.return_code = ReturnCode.NON_FINITE_PROBLEM
+            return self.return_code
+        code, dx = self._solve_strict() if self.band is None else self._solve_banded()
+        if code is ReturnCode.SUCCESS:
+            if np.isfinite(dx.sum()):
+                np.add(self.x_ref, dx, out=self.x)
+            else:
+                code = ReturnCode.NON_FINITE_SOLUTION
+        self.return_code = code
+        return code
+
+    def _relaxed(self, lo, hi, value, out_lo, out_hi) -> None:
+        np.minimum(lo - value, 0.0, out=out_lo)
+        np.maximum(hi - value, 0.0, out=out_hi)
+
+    def _solve_strict(self):
+        nx, n_in = self.layout.nx, self.n_in
+        N = self._N
+        N.fill(0.0)
+        if self.n_eq:
+            _, s, vt = np.linalg.svd(self.A, full_matrices=True)
+            r = int(np.count_nonzero(s > _RANK_TOL * max(1.0, s[0] if s.size else 0.0)))
+        else:
+            vt, r = np.eye(nx), 0
+        k = nx - r
+        self.null_space_dimension = k
+        if k == 0:  # the levels above use every degree of freedom: nothing left to optimise
+            return ReturnCode.SUCCESS, np.zeros(nx)
+        N[:, :k] = vt[r:].T
+        HN = self.H @ N
+        np.dot(N.T, HN, out=self._Hs)
+        self._Hs[range(k, nx), range(k, nx)] = 1.0  # padding variables: zero columns, pinned at 0
+        np.dot(N.T, self.H @ self.x_ref + self.g, out=self._gs)
+        if n_in:
+            np.dot(self.C, N, out=self._Cs[:n_in])
+            self._relaxed(self.l, self.u, self.C @ self.x_ref, self._ls[:n_in], self._us[:n_in])
+        self._Cs[n_in:] = N
+        self._relaxed(self.lbox, self.ubox, self.x_ref, self._ls[n_in:], self._us[n_in:])
+        # rows of very different scales (torques, accelerations, projected onto N) slow the solvers
+        # down on these often degenerate problems: normalise them (empty rows are always satisfied)
+        norms = np.linalg.norm(self._Cs, axis=1)
+        np.maximum(norms, 1e-12, out=norms)
+        self._Cs /= norms[:, None]
+        self._ls /= norms
+        self._us /= norms
+        code = self.strict_backend.solve(self._Hs, self._gs, None, None, self._Cs, self._ls, self._us,
+                                         -self._free, self._free)
+        if code is not ReturnCode.SUCCESS:
+            return code, None
+        return code, N @ self.strict_backend.x
+
+    def _solve_banded(self):
+        nx, n_in, ne = self.layout.nx, self.n_in, self.n_eq_constraints
+        if self.banded_backend is None:
+            self.banded_backend = make_backend(self.solver_type, nx, ne, self._Cb.shape[0])
+        self._Ab[:] = self.A[:ne]  # x_ref satisfies the equalities: keep them as they are (A z = 0)
+        g = self.H @ self.x_ref + self.g
+        if n_in:
+            self._Cb[:n_in] = self.C
+            self._relaxed(self.l, self.u, self.C @ self.x_ref, self._lb[:n_in], self._ub[:n_in])
+        self._Cb[n_in:] = self.A[ne:]
+        np.negative(self.band, out=self._lb[n_in:])
+        self._ub[n_in:] = self.band
+        self._relaxed(self.lbox, self.ubox, self.x_ref, self._lboxb, self._uboxb)
+        code = self.banded_backend.solve(self.H, g, self._Ab, self._bb, self._Cb, self._lb, self._ub,
+                                         self._lboxb, self._uboxb)
+        return code, (self.banded_backend.x if code is ReturnCode.SUCCESS else None)
+
+    def lock_rows(self) -> int:
+        return self.n_eq - self.n_eq_constraints
