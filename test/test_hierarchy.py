@@ -142,3 +142,106 @@ def test_changing_a_level_rebuilds_the_stack(lwr_urdf):
     text = c.describe()
     assert "level 0 [" in text and "level 3 [" in text
     assert text.index("ee") < text.index("level 3") < text.index("elbow")
+
+
+# ---------------------------------------------------------------- GENERALIZED
+def _priorities(c, value):
+    names = [t.name for t in c.get_tasks()]
+    for hi in names:
+        for lo in names:
+            if c.get_task(hi).level < c.get_task(lo).level:
+                c.set_priority(hi, lo, value)
+
+
+@pytest.mark.parametrize("solver", [orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
+@pytest.mark.parametrize("posture", [False, True], ids=["two_levels", "three_levels"])
+def test_generalized_ends_are_weighted_and_strict(lwr_urdf, solver, posture):
+    GEN = orca.ResolutionStrategy.GENERALIZED
+    for value, strategy in ((0.0, orca.ResolutionStrategy.ONE_LEVEL_WEIGHTED),
+                            (1.0, orca.ResolutionStrategy.MULTI_LEVEL_WEIGHTED)):
+        _, gen = _controller(lwr_urdf, GEN, solver, with_posture=posture)
+        _priorities(gen, value)
+        assert gen.update(0.002, 0.001)
+        _, ref = _controller(lwr_urdf, strategy, solver, with_posture=posture)
+        assert ref.update(0.002, 0.001)
+        tau, tau_ref = gen.get_joint_torque_command(), ref.get_joint_torque_command()
+        scale = np.abs(tau_ref).max()
+        np.testing.assert_allclose(tau, tau_ref, atol=1e-6 * scale, rtol=0)
+        for name in ("ee", "elbow"):
+            r, r_ref = _residual(gen, name), _residual(ref, name)
+            np.testing.assert_allclose(r, r_ref, atol=1e-6 * max(1.0, np.abs(r_ref).max()), rtol=0)
+    # in between, level 0 gets a residual between the two ends
+    _, mid = _controller(lwr_urdf, GEN, solver, with_posture=posture)
+    _priorities(mid, 0.5)
+    assert mid.update(0.002, 0.001)
+    _, w = _controller(lwr_urdf, orca.ResolutionStrategy.ONE_LEVEL_WEIGHTED, solver, with_posture=posture)
+    _, s = _controller(lwr_urdf, orca.ResolutionStrategy.MULTI_LEVEL_WEIGHTED, solver, with_posture=posture)
+    for c in (w, s):
+        assert c.update(0.002, 0.001)
+    n = [np.linalg.norm(_residual(c, "ee")) for c in (s, mid, w)]
+    assert n[0] + 1e-3 < n[1] < n[2] - 1e-3
+
+
+def _ramp_run(urdf, priority, dt=0.001, duration=1.5):
+    """Closed loop on the rigid-body model; returns the largest per-cycle torque change in [0.25, 1.25] s."""
+    from orca_ros.examples.common import integrate
+    robot, c = _controller(urdf, orca.ResolutionStrategy.GENERALIZED, orca.QPSolver.PROXQP)
+    c.get_task("ee").servo_controller().pid().set_proportional_gain(100.0)
+    c.get_task("ee").servo_controller().pid().set_derivative_gain(20.0)
+    c.get_task("elbow").servo_controller().pid().set_proportional_gain(100.0)
+    c.get_task("elbow").servo_controller().pid().set_derivative_gain(20.0)
+    q, v, t = Q.copy(), V.copy(), 0.0
+    taus = []
+    for _ in range(int(round(duration / dt))):
+        c.set_priority("ee", "elbow", priority(t))
+        robot.set_robot_state(q, v)
+        assert c.update(t, dt), c.get_return_code()
+        tau = c.get_joint_torque_command()
+        assert np.all(np.isfinite(tau))
+        taus.append(tau)
+        q, v = integrate(robot, q, v, tau, dt)
+        t += dt
+    steps = np.abs(np.diff(np.array(taus), axis=0)).max(axis=1)
+    return steps[int(0.25 / dt):int(1.25 / dt)].max()
+
+
+def test_generalized_priority_ramp_gives_continuous_torques(lwr_urdf):
+    ramp = _ramp_run(lwr_urdf, lambda t: min(max(t - 0.25, 0.0), 1.0))  # 0 -> 1 over 1 s
+    switch = _ramp_run(lwr_urdf, lambda t: 0.0 if t < 0.75 else 1.0)  # the same change at once
+    assert switch > 5.0  # weighted -> strict at once: a torque jump of several Nm in one cycle
+    assert ramp < 0.15 * switch and ramp < 2.0  # the ramp: no jump (Nm per 1 ms cycle)
+
+
+@pytest.mark.parametrize("strategy", ["multi_level_weighted", "generalized", "one_level_weighted"])
+def test_ramping_out_a_higher_level_task_is_continuous(strategy):
+    """The shipped arm configuration (end-effector at level 0, posture at level 1): switching the end-effector
+    task off with its 0.5 s ramp releases its lock progressively (no torque jump when the ramp ends)."""
+    import yaml
+
+    from orca_ros.configuration.controller_builder import build_from_config
+    from orca_ros.examples.common import integrate
+    with open(orca.share_path("config", "lwr_controller.yaml")) as fh:
+        cfg = yaml.safe_load(fh)["orca_controller"]["ros__parameters"]
+    cfg["resolution_strategy"] = strategy
+    setup = build_from_config(cfg)
+    robot, c = setup.robot, setup.controller
+    robot.set_gravity(np.array([0.0, 0.0, -9.81]))
+    q, v, t, dt = np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]), np.zeros(7), 0.0, 0.001
+    c.activate_tasks_and_constraints()
+    ee = c.get_task("ee")
+    taus = []
+    for k in range(2500):
+        if k == 500:
+            target = robot.get_frame_pose("link_7")
+            target[:3, 3] += [0.08, -0.10, 0.05]
+            ee.servo_controller().set_desired(target)
+        if k == 1500:
+            ee.deactivate()
+        robot.set_robot_state(q, v)
+        assert c.update(t, dt), c.get_return_code()
+        taus.append(c.get_joint_torque_command())
+        q, v = integrate(robot, q, v, taus[-1], dt)
+        t += dt
+    assert ee.is_deactivated()
+    steps = np.abs(np.diff(np.array(taus[1500:]), axis=0)).max()
+    assert steps < 1.0, f"{steps:.3f} Nm in one cycle while the task ramps out"

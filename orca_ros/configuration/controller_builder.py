@@ -9,7 +9,8 @@ Keys (defaults in brackets): ``urdf_path`` or ``robot_description``; ``floating_
 ``constraints``: {names: [...], <name>: {type, ...}}.
 
 Task types: ``cartesian`` (frame, kp[6|1], kd, ki, target_position, target_rpy), ``joint_acceleration``
-(kp, kd, ki, target), ``joint_torque`` (target); all take weight, ramp, active [true], selection, level.
+(kp, kd, ki, target), ``joint_torque`` (target); all take weight, ramp, active [true], selection, level
+[0] and, with the ``generalized`` strategy, ``priority_over`` {<lower task>: value in [0, 1]} [1: strict].
 Constraint types: ``joint_torque_limit`` (max or min/max [URDF]), ``joint_position_limit`` (horizon,
 min/max [URDF]), ``joint_velocity_limit`` (horizon, max [URDF]), ``joint_acceleration_limit`` (max); all take
 ramp and active [true].
@@ -120,6 +121,12 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         setup.tasks[name] = task
         setup.task_types[name] = tc["type"]
         setup.initially_active[name] = bool(tc.get("active", True))
+    for name in tasks.get("names", []):  # priorities name other tasks: read once all exist
+        for low, value in (tasks[name].get("priority_over") or {}).items():
+            try:
+                controller.set_priority(name, low, float(value))
+            except (KeyError, ValueError, TypeError) as exc:
+                raise ConfigError(f"task '{name}'.priority_over.{low}: {exc}") from None
     cons = cfg.get("constraints") or {}
     for name in cons.get("names", []):
         cc = cons.get(name)

@@ -56,9 +56,25 @@ class LowerLevelProblem(WeightedProblem):
         return None  # the level's own back-ends are made in __init__ (strict / banded forms)
 
     def lock(self, x_above: np.ndarray, band: np.ndarray | None = None) -> None:
-        """Keep the locked rows at their value at x_above, exactly (band None or all zero) or to +-band."""
+        """Keep the locked rows at their value at x_above, exactly (band None or all zero) or to +-band.
+
+        A locked task that is ramping in or out (activation factor rho in (0, 1)) is released progressively:
+        its rows get the band  (1 - rho) / rho * (|s E x_above| + |s f| + 1),  0 when fully active and growing
+        without bound as the task fades, so that switching a higher-level task off (or on) moves the levels
+        below continuously instead of dropping (or imposing) a lock at once."""
         super().lock(x_above)
         self.x_ref[:] = x_above
+        k = 0
+        for t in self.locked:
+            m = t.rows()
+            rho = t.get_ramp_value() if t.is_computing() else 0.0
+            if 0.0 < rho < 1.0 and t.get_effective_weight() > 0.0:
+                if band is None:
+                    band = np.zeros(self.lock_rows())
+                lock_value = self.b[self.n_eq_constraints + k:self.n_eq_constraints + k + m]  # s E x_above
+                scale = (np.abs(lock_value) + np.abs(t.selection * t.f) + 1.0) * (t.selection > 0)
+                np.maximum(band[k:k + m], (1.0 - rho) / rho * scale, out=band[k:k + m])
+            k += m
         if band is not None and not np.any(band > 0.0):
             band = None
         self.band = band
