@@ -245,3 +245,25 @@ def test_ramping_out_a_higher_level_task_is_continuous(strategy):
     assert ee.is_deactivated()
     steps = np.abs(np.diff(np.array(taus[1500:]), axis=0)).max()
     assert steps < 1.0, f"{steps:.3f} Nm in one cycle while the task ramps out"
+
+
+def test_yaml_levels_and_priorities():
+    import yaml
+
+    from orca_ros.configuration.controller_builder import ConfigError, build_from_config
+    with open(orca.share_path("config", "lwr_controller.yaml")) as fh:
+        cfg = yaml.safe_load(fh)["orca_controller"]["ros__parameters"]
+    setup = build_from_config(cfg)
+    assert setup.controller.resolution_strategy is orca.ResolutionStrategy.MULTI_LEVEL_WEIGHTED
+    assert setup.controller.get_levels() == [0, 1]
+    cfg["resolution_strategy"] = "generalized"
+    cfg["tasks"]["ee"]["priority_over"] = {"posture": 0.3}
+    assert build_from_config(cfg).controller.get_priority("ee", "posture") == 0.3
+    for bad in ({"nope": 0.3}, {"posture": 1.5}):
+        cfg["tasks"]["ee"]["priority_over"] = bad
+        with pytest.raises(ConfigError, match="priority_over"):
+            build_from_config(cfg)
+    cfg["tasks"]["ee"]["priority_over"] = {"posture": 0.3}
+    cfg["resolution_strategy"] = "multi_level_weighted"  # priority values need GENERALIZED
+    with pytest.raises(ConfigError, match="GENERALIZED"):
+        build_from_config(cfg)
