@@ -13,6 +13,9 @@ _os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 from .common import ActivationState, TaskBase
 from .constraint import (
+    BilateralContact,
+    Contact,
+    surface_contact,
     DynamicsEquationConstraint,
     GenericConstraint,
     JointAccelerationLimitConstraint,
@@ -33,13 +36,14 @@ from .math import (
 from .optim import Controller, ProblemLayout, QPSolver, ResolutionStrategy, ReturnCode, WeightedProblem
 from .robot import WORLD_FRAME, RobotModel, RobotState
 from .servo import CartesianAccelerationPID, PIDController
-from .task import CartesianTask, GenericTask, JointAccelerationTask, JointTorqueTask, RegularisationTask
+from .task import CartesianTask, CoMTask, GenericTask, JointAccelerationTask, JointTorqueTask, RegularisationTask, WrenchTask
 from .utils import Logger, MinJerkPositionTrajectory, get_logger
 from .paths import default_urdf_path, share_path
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "BilateralContact", "CoMTask", "Contact", "WrenchTask", "surface_contact",
     "ActivationState", "CartesianAccelerationPID", "CartesianTask", "Controller", "DynamicsEquationConstraint",
     "GenericConstraint", "GenericTask", "JointAccelerationLimitConstraint", "JointAccelerationTask",
     "JointBoxConstraint", "JointPositionLimitConstraint", "JointTorqueLimitConstraint", "JointTorqueTask",

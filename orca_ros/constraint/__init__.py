@@ -1,4 +1,6 @@
 """Constraints: linear bounds on the reduced QP variables."""
+from .bilateral_contact import BilateralContact
+from .contact import Contact, ContactBase, ContactExistenceCondition, surface_contact
 from .dynamics_equation_constraint import DynamicsEquationConstraint
 from .generic_constraint import GenericConstraint, JointBoxConstraint
 from .joint_limit_constraints import (
@@ -9,6 +11,7 @@ from .joint_limit_constraints import (
 )
 
 __all__ = [
+    "BilateralContact", "Contact", "ContactBase", "ContactExistenceCondition", "surface_contact",
     "DynamicsEquationConstraint", "GenericConstraint", "JointAccelerationLimitConstraint", "JointBoxConstraint",
     "JointPositionLimitConstraint", "JointTorqueLimitConstraint", "JointVelocityLimitConstraint",
 ]

@@ -98,8 +98,31 @@ class Controller:
         return task
 
     def add_constraint(self, constraint, name: str | None = None):
-        """Add a constraint instance, or build one from its class and name. Returns the constraint."""
-        return self._add(constraint, name, GenericConstraint, "constraint", self._constraints)
+        """Add a constraint instance, or build one from its class and name. Returns the constraint.
+        A contact brings its wrench variables (6 more QP variables) and its existence condition."""
+        c = self._add(constraint, name, GenericConstraint, "constraint", self._constraints)
+        if getattr(c, "is_contact", False):
+            for part in c.parts():
+                self._add(part, None, GenericConstraint, "constraint", self._constraints)
+            self._set_contacts()
+        return c
+
+    def add_contact(self, contact):
+        """Same as add_constraint, for contacts."""
+        if not getattr(contact, "is_contact", False):
+            raise TypeError(f"add_contact expects a contact, got {type(contact).__name__}")
+        return self.add_constraint(contact)
+
+    def get_contacts(self) -> list:
+        return list(self.layout.contacts)
+
+    def _set_contacts(self) -> None:
+        """Re-layout the QP variables for the current contacts and resize every task and constraint."""
+        self.layout.set_contacts([c for c in self._constraints if getattr(c, "is_contact", False)])
+        for obj in self._tasks + self._constraints:
+            obj.resize(self.layout)
+        self._x = np.zeros(self.layout.nx)
+        self._dirty = True
 
     def remove_task(self, name: str) -> None:
         self._tasks.remove(self.get_task(name))
@@ -133,7 +156,12 @@ class Controller:
         return self.priorities.get(high, low)
 
     def remove_constraint(self, name: str) -> None:
-        self._constraints.remove(self.get_constraint(name))
+        c = self.get_constraint(name)
+        self._constraints.remove(c)
+        if getattr(c, "is_contact", False):
+            for part in c.parts():
+                self._constraints.remove(part)
+            self._set_contacts()
         self._dirty = True
 
     def get_task(self, name: str) -> GenericTask:
@@ -195,7 +223,8 @@ class Controller:
                     WeightedProblem(self.layout, reg + above + own, self._constraints, self.solver, level=lev)
                     if generalized else None)
         # objects without rows for this robot have nothing to compute
-        self._updated = [o for o in self._tasks + self._constraints if o.rows() > 0]
+        self._updated = [o for o in self._tasks + self._constraints
+                         if o.rows() > 0 or getattr(o, "is_contact", False)]  # contacts: ramps
         self._dirty = False
 
     def get_problem_at_level(self, level: int = 0) -> WeightedProblem:
@@ -237,6 +266,8 @@ class Controller:
             self._acc[:] = x[lay.acc]
             np.dot(lay.T, x, out=self._tau)
             self._tau += lay.t0
+            for c in lay.contacts:
+                c.record_solution(x)
             self._make_command()
             self._solution_found = True
         else:

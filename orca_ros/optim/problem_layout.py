@@ -21,7 +21,8 @@ class ProblemLayout:
         self.ndof = robot.get_nr_of_degrees_of_freedom()
         self.nbase = self.nv - self.ndof
         self.n_wrenches = 0
-        self.wrench_jacobian: np.ndarray | None = None  # (6 n_wrenches, nv), set by contacts
+        self.contacts = []  # objects owning one wrench each, in wrench order (see set_contacts)
+        self.wrench_jacobian = np.zeros((0, self.nv))  # (6 n_wrenches, nv), world-aligned, from the contacts
         self._resize()
 
     def _resize(self) -> None:
@@ -35,12 +36,26 @@ class ProblemLayout:
         self.T = self._T
         self.t0 = self._t0
 
-    def set_number_of_wrenches(self, n: int) -> None:
-        self.n_wrenches = int(n)
+    def set_contacts(self, contacts) -> None:
+        """One external wrench variable per contact (``contact.wrench_index`` set here); the QP grows by 6
+        variables per contact and shrinks back when contacts are removed."""
+        self.contacts = list(contacts)
+        for i, c in enumerate(self.contacts):
+            c.wrench_index = i
+        self.n_wrenches = len(self.contacts)
+        self.wrench_jacobian = np.zeros((6 * self.n_wrenches, self.nv))
         self._resize()
 
+    def wrench_slice(self, index: int) -> slice:
+        """Variables of wrench ``index`` in x: [force (3), torque (3)] in world axes."""
+        start = self.nv + 6 * index
+        return slice(start, start + 6)
+
     def update(self) -> None:
-        """Refresh (T, t0) from the robot's current mass matrix and nonlinear effects."""
+        """Refresh the contacts' Jacobians and (T, t0) from the robot's current mass matrix and nonlinear
+        effects."""
+        for i, c in enumerate(self.contacts):
+            c.fill_wrench_jacobian(self.wrench_jacobian[6 * i:6 * i + 6])
         M = self.robot.get_mass_matrix()
         n = self.robot.get_generalized_gravity_and_coriolis_torques()
         nb = self.nbase

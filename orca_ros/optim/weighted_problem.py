@@ -25,6 +25,8 @@ class WeightedProblem:
         self.locked = list(locked_tasks)
         self.solver_type = solver
         nx = layout.nx
+        # contacts own wrench variables, bounded through the variable bounds (zero while switched off)
+        self.contacts = [c for c in constraints if getattr(c, "is_contact", False)]
         # constraints without rows for this robot (e.g. the dynamics' floating-base rows on a fixed base)
         # cost nothing at run time
         constraints = [c for c in constraints if c.rows() > 0]
@@ -111,6 +113,14 @@ class WeightedProblem:
                 self.l[rows] = -np.inf
                 self.u[rows] = np.inf
         self._build_box()
+        for c in self.contacts:
+            ws = c.wrench_slice()
+            if c.is_computing():
+                self.lbox[ws] = c.wrench_lower
+                self.ubox[ws] = c.wrench_upper
+            else:
+                self.lbox[ws] = 0.0
+                self.ubox[ws] = 0.0
 
     def _build_box(self) -> None:
         if not self.soft_box and not self.hard_box:

@@ -21,6 +21,7 @@ import pinocchio as pin
 
 from ..utils.logger import get_logger
 from . import frame_kinematics as fk
+from .com_kinematics import ComKinematics
 
 _LOG = get_logger("robot")
 WORLD_FRAME = "world"
@@ -69,6 +70,7 @@ class RobotModel:
         # gravity is computed on its own Data: its RNEA pass would overwrite the velocities/accelerations
         # that computeAllTerms left in self.data for the frame quantities of the same state
         self._gravity_data = model.createData()
+        self._com = None
         self.floating_base = bool(floating_base)
         if not self.name:
             self.name = model.name
@@ -326,6 +328,23 @@ class RobotModel:
         terms = (T, J, vel, acc)
         self._frame_cache[fid] = (self._stamp, terms)
         return terms
+
+    def world_frame_terms(self, frame_id: int):
+        """(world_H_frame, J, velocity, bias acceleration) of a frame in world axes (contacts use these)."""
+        return self._world_frame_terms(frame_id)
+
+    def get_center_of_mass_terms(self):
+        """(position, Jacobian 3 x nv, velocity, bias J_dot nu) of the centre of mass, world axes."""
+        if self._com is None:
+            self._com = ComKinematics(self)
+        return self._com.terms()
+
+    def get_center_of_mass(self) -> np.ndarray:
+        return self.get_center_of_mass_terms()[0].copy()
+
+    def get_total_mass(self) -> float:
+        self._require_model()
+        return float(pin.computeTotalMass(self.model))
 
     def _base_terms(self):
         if self._base_is_world:

@@ -171,5 +171,22 @@ class SimModel:
         r = T[:3, 3] - np.array(com)  # from the centre of mass to the link origin
         return np.concatenate((lin + np.cross(ang, r), ang))
 
+    def _link(self, link_name: str) -> int:
+        if not hasattr(self, "_link_index"):
+            self._link_index = {self.client.getJointInfo(self.body, j)[12].decode(): j
+                                for j in range(self.client.getNumJoints(self.body))}
+        if link_name not in self._link_index:
+            raise ValueError(f"model '{self.name}' has no link '{link_name}'")
+        return self._link_index[link_name]
+
+    def get_link_position(self, link_name: str) -> np.ndarray:
+        """World position of a link frame's origin (URDF link frame, not its centre of mass)."""
+        return np.array(self.client.getLinkState(self.body, self._link(link_name), computeForwardKinematics=True)[4])
+
+    def get_link_velocity(self, link_name: str):
+        """(linear, angular) world velocity of a link; the linear one at the link's centre of mass."""
+        s = self.client.getLinkState(self.body, self._link(link_name), computeLinkVelocity=True)
+        return np.array(s[6]), np.array(s[7])
+
     def get_gravity(self) -> np.ndarray:
         return self.server.gravity.copy()

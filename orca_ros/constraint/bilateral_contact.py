@@ -1,0 +1,69 @@
+"""Bilateral contact: a frame rigidly held by the environment, or two links of the robot held together.
+
+The contact owns a full wrench w (6 QP variables, world axes, at the frame's origin), unbounded (a grip or a
+weld pulls as well as pushes). Held by the environment (``other_frame`` None): the frame does not accelerate,
+J nu_dot + J_dot nu = 0 (6 rows), and w enters the dynamics through J^T. Between two links a and b (their
+frames coinciding while held): the relative acceleration is zero, (J_a - J_b) nu_dot + (bias_a - bias_b) = 0,
+and the internal wrench acts on a and its opposite on b, i.e. through (J_a - J_b)^T. Switched off, w = 0.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .contact import ContactBase
+from .generic_constraint import GenericConstraint
+
+
+class BilateralContact(ContactBase):
+    def __init__(self, name: str, frame: str | None = None, other_frame: str | None = None):
+        super().__init__(name)
+        self.other_frame = other_frame
+        self._other_fid = None
+        self.existence = BilateralExistenceCondition(f"{name}_existence", self)
+        self.wrench_lower[:] = -np.inf
+        self.wrench_upper[:] = np.inf
+        if frame is not None:
+            self.set_contact_frame(frame)
+
+    def set_robot_model(self, robot) -> None:
+        super().set_robot_model(robot)
+        if self.other_frame is not None:
+            self._other_fid = robot.get_frame_id(self.other_frame)
+
+    def rows(self) -> int:
+        return 0  # no inequality: only the existence condition and the free wrench
+
+    def relative_terms(self):
+        _, J, _, bias = self.robot.world_frame_terms(self._fid)
+        if self._other_fid is None:
+            return J, bias
+        _, Jb, _, bias_b = self.robot.world_frame_terms(self._other_fid)
+        return J - Jb, bias - bias_b
+
+    def fill_wrench_jacobian(self, out: np.ndarray) -> None:
+        out[:] = self.relative_terms()[0]
+
+    def _update_constraint_function(self, current_time: float, dt: float) -> None:
+        pass
+
+
+class BilateralExistenceCondition(GenericConstraint):
+    kind = "equality"
+
+    def __init__(self, name: str, contact: BilateralContact):
+        super().__init__(name)
+        self.contact = contact
+
+    def is_computing(self) -> bool:
+        return self.contact.is_computing()
+
+    def rows(self) -> int:
+        return 6
+
+    def update(self, current_time: float, dt: float) -> None:
+        if not self.contact.is_computing():
+            return
+        J, bias = self.contact.relative_terms()
+        self.C[:, self.layout.acc] = J
+        self.lb[:] = -bias
+        self.ub[:] = self.lb

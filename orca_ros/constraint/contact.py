@@ -1,0 +1,256 @@
+"""Unilateral point contact with a linearised Coulomb friction cone.
+
+A contact owns one external wrench w = [f, m] (world axes, applied by the environment on the robot at the
+contact point) among the QP variables; the dynamics see it through J_c^T w. For a point contact m = 0 (fixed by
+the variable bounds) and f must lie in the friction cone of normal n and coefficient mu, approximated from
+inside by a pyramid of ``number_of_faces`` faces:
+
+    d_k . f <= mu_eff (n . f),   d_k = cos(2 pi k / N) t1 + sin(2 pi k / N) t2,   mu_eff = (mu - margin) cos(pi / N)
+    min_normal_force <= n . f <= f_max(t)
+
+(``mu_eff`` puts the pyramid's edges inside the cone shrunk by ``margin``: every solution is inside the true
+cone). The *existence condition* (:class:`ContactExistenceCondition`, added with the contact) keeps the contact
+point from accelerating: J_p nu_dot + J_dot_p nu = 0 (3 rows).
+
+Activation ramps f_max smoothly: switching a contact on raises the bound from 0 to ``maximum_normal_force``;
+switching it off lowers it from the normal force the contact carried when the deactivation started to 0, so a
+foot is unloaded progressively before it leaves the ground. A deactivated contact's wrench is held at zero.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .generic_constraint import GenericConstraint
+
+
+def _skew(r):
+    return np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+
+
+def point_terms(robot, frame_id: int, offset):
+    """(position, J 6 x nv, velocity 6, bias acceleration 6) of a point rigidly attached to a frame (offset in
+    the frame's axes), world axes; linear rows are the point's, angular rows the frame's."""
+    T, J, vel, acc = robot.world_frame_terms(frame_id)
+    if offset is None:
+        return T[:3, 3], J, vel, acc
+    r = T[:3, :3] @ offset
+    Jp = J.copy()
+    Jp[:3] -= _skew(r) @ J[3:]
+    w = vel[3:]
+    v = vel.copy()
+    v[:3] += np.cross(w, r)
+    a = acc.copy()
+    a[:3] += np.cross(acc[3:], r) + np.cross(w, np.cross(w, r))
+    return T[:3, 3] + r, Jp, v, a
+
+
+class ContactBase(GenericConstraint):
+    """Something that owns an external wrench variable (point, surface or bilateral contact)."""
+
+    kind = "inequality"
+    is_contact = True
+
+    def __init__(self, name: str):
+        super().__init__(name)
+        self.wrench_index = None
+        self.frame = None
+        self._fid = None
+        self.wrench_lower = np.zeros(6)
+        self.wrench_upper = np.zeros(6)
+        self.existence = None
+        self.last_wrench = np.zeros(6)
+
+    def set_contact_frame(self, frame: str) -> None:
+        if self.robot is not None:
+            self._fid = self.robot.get_frame_id(frame)
+        self.frame = frame
+
+    def set_robot_model(self, robot) -> None:
+        super().set_robot_model(robot)
+        if self.frame is not None:
+            self._fid = robot.get_frame_id(self.frame)
+
+    def parts(self):
+        """Constraints the controller adds together with this one."""
+        return [self.existence] if self.existence is not None else []
+
+    def wrench_slice(self) -> slice:
+        return self.layout.wrench_slice(self.wrench_index)
+
+    def get_wrench(self, x: np.ndarray) -> np.ndarray:
+        """This contact's wrench [force, torque] (world axes) in a reduced solution x."""
+        return x[self.wrench_slice()].copy()
+
+    def record_solution(self, x: np.ndarray) -> None:
+        self.last_wrench[:] = x[self.wrench_slice()]
+
+    def fill_wrench_jacobian(self, out: np.ndarray) -> None:
+        raise NotImplementedError
+
+
+class Contact(ContactBase):
+    def __init__(self, name: str, frame: str | None = None, offset=None):
+        super().__init__(name)
+        self.mu = 0.6
+        self.margin = 0.0
+        self.n_faces = 4
+        self.normal = np.array([0.0, 0.0, 1.0])
+        self.maximum_normal_force = 1000.0
+        self.minimum_normal_force = 0.0
+        self.offset = None if offset is None else np.asarray(offset, dtype=float).reshape(3)
+        self._release_force = None  # normal force when the deactivation started
+        self._faces = None
+        self.existence = ContactExistenceCondition(f"{name}_existence", self)
+        if frame is not None:
+            self.set_contact_frame(frame)
+        self._make_faces()
+
+    # -------------------------------------------------------------- configuration
+    def set_friction_coefficient(self, mu: float) -> None:
+        if not (np.isfinite(mu) and mu > 0):
+            raise ValueError(f"contact '{self.name}': friction coefficient must be > 0, got {mu}")
+        self.mu = float(mu)
+        self._make_faces()
+
+    def set_margin(self, margin: float) -> None:
+        if not (0.0 <= margin < self.mu):
+            raise ValueError(f"contact '{self.name}': margin must be in [0, mu = {self.mu}), got {margin}")
+        self.margin = float(margin)
+        self._make_faces()
+
+    def set_number_of_faces(self, n: int) -> None:
+        if int(n) < 3:
+            raise ValueError(f"contact '{self.name}': a friction pyramid needs at least 3 faces, got {n}")
+        self.n_faces = int(n)
+        self._make_faces()
+        if self.layout is not None:
+            raise RuntimeError("set the number of faces before adding the contact to a controller")
+
+    def set_contact_normal(self, normal) -> None:
+        """Normal of the contact surface (pointing from the environment to the robot), world axes."""
+        n = np.asarray(normal, dtype=float).reshape(3)
+        if not np.all(np.isfinite(n)) or np.linalg.norm(n) < 1e-9:
+            raise ValueError(f"contact '{self.name}': invalid normal {normal}")
+        self.normal = n / np.linalg.norm(n)
+        self._make_faces()
+
+    def set_cone_orientation(self, world_R_cone) -> None:
+        """Orientation of the cone frame; its z axis is the contact normal."""
+        R = np.asarray(world_R_cone, dtype=float).reshape(3, 3)
+        self.set_contact_normal(R[:, 2])
+
+    def set_maximum_normal_force(self, f: float) -> None:
+        if not (np.isfinite(f) and f > 0):
+            raise ValueError(f"contact '{self.name}': maximum normal force must be > 0, got {f}")
+        self.maximum_normal_force = float(f)
+
+    def set_minimum_normal_force(self, f: float) -> None:
+        self.minimum_normal_force = max(0.0, float(f))
+
+    def _make_faces(self) -> None:
+        n = self.normal
+        t1 = np.cross(n, [1.0, 0.0, 0.0] if abs(n[0]) < 0.9 else [0.0, 1.0, 0.0])
+        t1 /= np.linalg.norm(t1)
+        t2 = np.cross(n, t1)
+        mu_eff = (self.mu - self.margin) * np.cos(np.pi / self.n_faces)
+        ang = 2.0 * np.pi * np.arange(self.n_faces) / self.n_faces
+        d = np.cos(ang)[:, None] * t1 + np.sin(ang)[:, None] * t2
+        self._faces = d - mu_eff * n  # rows: (d_k - mu_eff n) . f <= 0
+        self.mu_effective = mu_eff
+
+    # -------------------------------------------------------------- activation
+    def deactivate(self) -> bool:
+        self._release_force = max(float(self.normal @ self.last_wrench[:3]), 0.0)
+        return super().deactivate()
+
+    def normal_force_bound(self) -> float:
+        """Upper bound on the normal force this cycle (follows the activation ramp)."""
+        if not self.is_computing():
+            return 0.0
+        rho = self.get_ramp_value()
+        if self._release_force is not None and self.state.value == "deactivating":
+            return rho * self._release_force
+        return rho * self.maximum_normal_force
+
+    # -------------------------------------------------------------- rows
+    def rows(self) -> int:
+        return self.n_faces + 1
+
+    def fill_wrench_jacobian(self, out: np.ndarray) -> None:
+        _, J, _, _ = point_terms(self.robot, self._fid, self.offset)
+        out[:] = J
+
+    def point_terms(self):
+        return point_terms(self.robot, self._fid, self.offset)
+
+    def _update_constraint_function(self, current_time: float, dt: float) -> None:
+        ws = self.wrench_slice()
+        f = slice(ws.start, ws.start + 3)
+        nf = self.n_faces
+        self.C[:nf, f] = self._faces
+        self.lb[:nf] = -np.inf
+        self.ub[:nf] = 0.0
+        self.C[nf, f] = self.normal
+        bound = self.normal_force_bound()
+        self.lb[nf] = min(self.minimum_normal_force * self.get_ramp_value(), bound)
+        self.ub[nf] = bound
+        # force free (the rows above bound it), torque of a point contact zero; all zero when switched off
+        if self.is_computing():
+            self.wrench_lower[:3], self.wrench_upper[:3] = -np.inf, np.inf
+        else:
+            self.wrench_lower[:3], self.wrench_upper[:3] = 0.0, 0.0
+        self.wrench_lower[3:], self.wrench_upper[3:] = 0.0, 0.0
+        if self.state.value == "activated":
+            self._release_force = None
+
+
+class ContactExistenceCondition(GenericConstraint):
+    """The contact point does not accelerate while its contact is on (linear rows of J_p)."""
+
+    kind = "equality"
+
+    def __init__(self, name: str, contact: Contact):
+        super().__init__(name)
+        self.contact = contact
+
+    def is_computing(self) -> bool:
+        return self.contact.is_computing()
+
+    def rows(self) -> int:
+        return 3
+
+    def _update(self, current_time: float, dt: float) -> None:
+        if not self.contact.is_computing():
+            return
+        _, J, _, bias = self.contact.point_terms()
+        self.C[:, self.layout.acc] = J[:3]
+        self.lb[:] = -bias[:3]
+        self.ub[:] = self.lb
+
+    def update(self, current_time: float, dt: float) -> None:
+        self.state, self._ramp_factor = self.contact.state, self.contact.get_ramp_value()  # mirrors it
+        self._update(current_time, dt)
+
+
+def surface_contact(name: str, frame: str, points, **settings) -> list[Contact]:
+    """A flat contact (a foot sole, a hand on a table) as unilateral point contacts at ``points`` (offsets in
+    the frame's axes, e.g. the sole's corners): wrenches at several points give the surface's centre of
+    pressure and torsional friction. ``settings``: friction_coefficient, margin, number_of_faces,
+    contact_normal, maximum_normal_force, ramp_duration. Add each returned contact to the controller."""
+    out = []
+    for i, p in enumerate(points):
+        c = Contact(f"{name}_{i}", frame, offset=p)
+        if "number_of_faces" in settings:
+            c.set_number_of_faces(settings["number_of_faces"])
+        if "friction_coefficient" in settings:
+            c.set_friction_coefficient(settings["friction_coefficient"])
+        if "margin" in settings:
+            c.set_margin(settings["margin"])
+        if "contact_normal" in settings:
+            c.set_contact_normal(settings["contact_normal"])
+        if "maximum_normal_force" in settings:
+            c.set_maximum_normal_force(settings["maximum_normal_force"])
+        if "ramp_duration" in settings:
+            c.set_ramp_duration(settings["ramp_duration"])
+        out.append(c)
+    return out

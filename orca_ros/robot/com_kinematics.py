@@ -1,0 +1,32 @@
+"""Centre of mass of the whole robot, in the world frame: position, Jacobian, velocity and bias J_dot nu.
+
+Computed on its own Pinocchio Data (a zero-acceleration pass would otherwise overwrite the frame quantities
+of the robot's main Data for the same state) and cached per state.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+
+class ComKinematics:
+    def __init__(self, robot):
+        self.robot = robot
+        self.data = robot.model.createData()
+        self._stamp = -1
+        self._terms = None
+        self._zero = np.zeros(robot.model.nv)
+        self.mass = float(pin.computeTotalMass(robot.model))
+
+    def terms(self):
+        """(position 3, Jacobian 3 x nv, velocity 3, bias acceleration 3) in world axes."""
+        robot = self.robot
+        if self._stamp == robot._stamp and self._terms is not None:
+            return self._terms
+        robot._update_terms()
+        m, d, q, v = robot.model, self.data, robot._q_pin, robot._v_pin
+        pin.centerOfMass(m, d, q, v, self._zero)
+        J = pin.jacobianCenterOfMass(m, d, q, False)
+        self._terms = (d.com[0].copy(), J.copy(), d.vcom[0].copy(), d.acom[0].copy())
+        self._stamp = robot._stamp
+        return self._terms
