@@ -11,7 +11,9 @@ Keys (defaults in brackets): ``urdf_path`` or ``robot_description``; ``floating_
 Task types: ``cartesian`` (frame, kp[6|1], kd, ki, target_position, target_rpy), ``joint_acceleration``
 (kp, kd, ki, target), ``joint_torque`` (target); all take weight, ramp, active [true], selection, level
 [0] and, with the ``generalized`` strategy, ``priority_over`` {<lower task>: value in [0, 1]} [1: strict].
-Constraint types: ``joint_torque_limit`` (max or min/max [URDF]), ``joint_position_limit`` (horizon,
+Task ``com``: kp, kd, target (world). Contacts (in ``constraints``): ``contact`` (frame, offset,
+friction_coefficient, margin, faces, normal, max_normal_force, min_normal_force), ``bilateral_contact`` (frame,
+other_frame). Constraint types: ``joint_torque_limit`` (max or min/max [URDF]), ``joint_position_limit`` (horizon,
 min/max [URDF]), ``joint_velocity_limit`` (horizon, max [URDF]), ``joint_acceleration_limit`` (max); all take
 ramp and active [true].
 """
@@ -23,6 +25,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..constraint import (
+    BilateralContact,
+    Contact,
     JointAccelerationLimitConstraint,
     JointPositionLimitConstraint,
     JointTorqueLimitConstraint,
@@ -32,10 +36,11 @@ from ..math.rotations import make_transform, rotation_from_rpy
 from ..optim import Controller, QPSolver, ResolutionStrategy
 from ..paths import share_path
 from ..robot import RobotModel
-from ..task import CartesianTask, JointAccelerationTask, JointTorqueTask
+from ..task import CartesianTask, CoMTask, JointAccelerationTask, JointTorqueTask
 
 TASK_TYPES = {"cartesian": CartesianTask, "joint_acceleration": JointAccelerationTask,
-              "joint_torque": JointTorqueTask}
+              "joint_torque": JointTorqueTask, "com": CoMTask}
+CONTACT_TYPES = {"contact": Contact, "bilateral_contact": BilateralContact}
 CONSTRAINT_TYPES = {"joint_torque_limit": JointTorqueLimitConstraint,
                     "joint_position_limit": JointPositionLimitConstraint,
                     "joint_velocity_limit": JointVelocityLimitConstraint,
@@ -130,8 +135,14 @@ def build_from_config(cfg: dict) -> ControllerSetup:
     cons = cfg.get("constraints") or {}
     for name in cons.get("names", []):
         cc = cons.get(name)
+        if isinstance(cc, dict) and cc.get("type") in CONTACT_TYPES:
+            c = controller.add_constraint(_make_contact(name, cc))
+            c.set_ramp_duration(float(cc.get("ramp", 0.0)))
+            setup.initially_active[name] = bool(cc.get("active", True))
+            continue
         if not isinstance(cc, dict) or cc.get("type") not in CONSTRAINT_TYPES:
-            raise ConfigError(f"constraint '{name}': 'type' must be one of {sorted(CONSTRAINT_TYPES)}")
+            raise ConfigError(f"constraint '{name}': 'type' must be one of "
+                              f"{sorted(CONSTRAINT_TYPES) + sorted(CONTACT_TYPES)}")
         c = controller.add_constraint(CONSTRAINT_TYPES[cc["type"]], name)
         if "horizon" in cc:
             c.set_horizon(float(cc["horizon"]))
@@ -144,6 +155,30 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         c.set_ramp_duration(float(cc.get("ramp", 0.0)))
         setup.initially_active[name] = bool(cc.get("active", True))
     return setup
+
+
+def _make_contact(name: str, cc: dict):
+    if "frame" not in cc:
+        raise ConfigError(f"contact '{name}' needs a 'frame'")
+    try:
+        if cc["type"] == "bilateral_contact":
+            return BilateralContact(name, cc["frame"], cc.get("other_frame") or None)
+        c = Contact(name, cc["frame"], offset=cc.get("offset"))
+        if "faces" in cc:
+            c.set_number_of_faces(int(cc["faces"]))
+        if "friction_coefficient" in cc:
+            c.set_friction_coefficient(float(cc["friction_coefficient"]))
+        if "margin" in cc:
+            c.set_margin(float(cc["margin"]))
+        if "normal" in cc:
+            c.set_contact_normal(_vec(cc["normal"], 3, f"{name}.normal"))
+        if "max_normal_force" in cc:
+            c.set_maximum_normal_force(float(cc["max_normal_force"]))
+        if "min_normal_force" in cc:
+            c.set_minimum_normal_force(float(cc["min_normal_force"]))
+        return c
+    except (ValueError, TypeError) as exc:
+        raise ConfigError(f"contact '{name}': {exc}") from None
 
 
 def _configure_task(task, tc: dict, n: int, name: str) -> None:
@@ -175,6 +210,11 @@ def _configure_task(task, tc: dict, n: int, name: str) -> None:
             task.pid().set_integral_gain(_vec(tc["ki"], n, f"{name}.ki"))
         if "target" in tc:
             task.set_desired(_vec(tc["target"], n, f"{name}.target"))
+    elif kind is CoMTask:
+        task.pid().set_proportional_gain(_vec(tc.get("kp", 100.0), 3, f"{name}.kp"))
+        task.pid().set_derivative_gain(_vec(tc.get("kd", 20.0), 3, f"{name}.kd"))
+        if "target" in tc:
+            task.set_desired(_vec(tc["target"], 3, f"{name}.target"))
     elif kind is JointTorqueTask:
         if "target" in tc:
             task.set_desired(_vec(tc["target"], n, f"{name}.target"))

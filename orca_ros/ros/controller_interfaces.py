@@ -14,6 +14,7 @@ import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseStamped
 from sensor_msgs.msg import JointState
+from trajectory_msgs.msg import MultiDOFJointTrajectoryPoint
 from std_msgs.msg import Float64MultiArray
 from std_srvs.srv import SetBool, Trigger
 
@@ -30,6 +31,8 @@ class ControllerInterfaces:
             if isinstance(task, CartesianTask):
                 self.create_subscription(PoseStamped, f"{base}/target_pose",
                                          lambda m, n=name: self._on_target_pose(n, m), DEFAULT_QOS)
+                self.create_subscription(MultiDOFJointTrajectoryPoint, f"{base}/target_point",
+                                         lambda m, n=name: self._on_target_point(n, m), DEFAULT_QOS)
                 pose_pub = self.create_publisher(PoseStamped, f"{base}/current_pose", DEFAULT_QOS)
             else:
                 self.create_subscription(JointState, f"{base}/target",
@@ -63,11 +66,37 @@ class ControllerInterfaces:
                     raise ValueError(f"unknown frame '{frame}'")
                 if not self._have_state:
                     raise ValueError(f"frame '{frame}' needs a joint state to be resolved")
-                self.robot.set_robot_state(self._q, self._v)
+                self._apply_state()
                 T = self.robot.get_frame_pose(frame) @ T
             task.servo_controller().set_desired(T)
         except ValueError as exc:
             self.get_logger().error(f"target for task '{name}' rejected: {exc}")
+            return
+        self._target_time[name] = self._now()
+
+    def _on_target_point(self, name: str, msg: MultiDOFJointTrajectoryPoint) -> None:
+        """Pose, twist and acceleration (feed-forward) of a Cartesian task, in the base frame."""
+        task = self.setup.tasks[name]
+        try:
+            if len(msg.transforms) != 1:
+                raise ValueError("target_point needs exactly one transform")
+            tr = msg.transforms[0]
+            T = np.eye(4)
+            T[:3, 3] = (tr.translation.x, tr.translation.y, tr.translation.z)
+            q = tr.rotation
+            T[:3, :3] = pose_to_matrix(_quat_pose(q))[:3, :3]
+            vel, acc = np.zeros(6), np.zeros(6)
+            for src, out in ((msg.velocities, vel), (msg.accelerations, acc)):
+                if len(src) > 1:
+                    raise ValueError("at most one velocity and one acceleration")
+                if len(src) == 1:
+                    out[:] = (src[0].linear.x, src[0].linear.y, src[0].linear.z,
+                              src[0].angular.x, src[0].angular.y, src[0].angular.z)
+            if not (np.all(np.isfinite(T)) and np.all(np.isfinite(vel)) and np.all(np.isfinite(acc))):
+                raise ValueError("NaN or infinite values")
+            task.servo_controller().set_desired(T, vel, acc)
+        except ValueError as exc:
+            self.get_logger().error(f"target point for task '{name}' rejected: {exc}")
             return
         self._target_time[name] = self._now()
 
@@ -154,7 +183,7 @@ class ControllerInterfaces:
         return res
 
     def _reset_targets(self) -> None:
-        self.robot.set_robot_state(self._q, self._v)
+        self._apply_state()
         for task in self.setup.tasks.values():
             self._hold_task(task)
         self._target_time.clear()
@@ -211,3 +240,12 @@ class ControllerInterfaces:
         arr.header.stamp = self.get_clock().now().to_msg()
         arr.status = [st]
         self.pub_diag.publish(arr)
+
+
+def _quat_pose(q):
+    """A geometry_msgs Pose with orientation q (for pose_to_matrix's quaternion checks)."""
+    from geometry_msgs.msg import Pose  # noqa: PLC0415
+
+    p = Pose()
+    p.orientation = q
+    return p

@@ -16,13 +16,14 @@ import sys
 import time
 
 import numpy as np
+from nav_msgs.msg import Odometry
 from rclpy.node import Node
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
 
 from ..configuration import build_from_config
 from ..safety import SafeCommand
-from .common import COMMAND_QOS, STATE_QOS, run_node, nested_parameters, param, stamp_to_sec
+from .common import COMMAND_QOS, STATE_QOS, nested_parameters, param, pose_to_matrix, run_node, stamp_to_sec
 from .controller_interfaces import ControllerInterfaces
 
 
@@ -34,6 +35,7 @@ class OrcaControllerNode(Node, ControllerInterfaces):
             ("solver", "proxqp"), ("resolution_strategy", "one_level_weighted"), ("floating_base", False),
             ("gravity_compensated_by_hardware", False))}
         cfg["tasks"] = nested_parameters(self, "tasks")
+        self.floating = bool(cfg["floating_base"])
         cfg["constraints"] = nested_parameters(self, "constraints")
         self.setup = setup = build_from_config(cfg)
         self.robot, self.controller = setup.robot, setup.controller
@@ -64,6 +66,14 @@ class OrcaControllerNode(Node, ControllerInterfaces):
                                                                           "/effort_controller/commands")),
                                              COMMAND_QOS)
         self.create_subscription(JointState, "joint_states", self._on_joint_state, STATE_QOS)
+        # floating base: the base pose and twist come from odom (nav_msgs/Odometry, twist in child_frame_id)
+        self._base_T = np.eye(4)
+        self._base_twist = np.zeros(6)
+        self._odom_stamp = None
+        self._gravity = np.array(param(self, "gravity", [0.0, 0.0, -9.81]), dtype=float)
+        self._computed_stamp = None
+        if self.floating:
+            self.create_subscription(Odometry, str(param(self, "odom_topic", "odom")), self._on_odom, STATE_QOS)
         self.setup_interfaces(float(param(self, "diagnostics_rate", 5.0)), float(param(self, "feedback_rate", 50.0)))
         if self.trigger == "timer":
             self.create_timer(self.period, self._control_step)
@@ -99,11 +109,49 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         self._q[:] = pos[self._wire_of_model]
         self._v[:] = vel[self._wire_of_model]
         self._state_stamp = stamp
+        self._on_new_state()
+
+    def _on_odom(self, msg: Odometry) -> None:
+        p, o = msg.pose.pose.position, msg.pose.pose.orientation
+        tw = msg.twist.twist
+        vals = np.array([p.x, p.y, p.z, o.x, o.y, o.z, o.w, tw.linear.x, tw.linear.y, tw.linear.z,
+                         tw.angular.x, tw.angular.y, tw.angular.z], dtype=float)
+        if not np.all(np.isfinite(vals)) or np.linalg.norm(vals[3:7]) < 1e-6:
+            self.get_logger().error("odom rejected: NaN, infinite or zero-quaternion values", throttle_duration_sec=1.0)
+            return
+        T = pose_to_matrix(msg.pose.pose)
+        R = T[:3, :3]
+        self._base_T[:] = T
+        self._base_twist[:3] = R @ vals[7:10]  # child frame -> world axes
+        self._base_twist[3:] = R @ vals[10:13]
+        self._odom_stamp = stamp_to_sec(msg.header.stamp)
+        self._on_new_state()
+
+    def _state_ready(self) -> bool:
+        if self._state_stamp is None:
+            return False
+        return not self.floating or self._odom_stamp is not None
+
+    def _apply_state(self) -> None:
+        if self.floating:
+            self.robot.set_robot_state(self._base_T, self._q, self._base_twist, self._v, self._gravity)
+        else:
+            self.robot.set_robot_state(self._q, self._v)
+
+    def _on_new_state(self) -> None:
+        if not self._state_ready():
+            return
         if not self._have_state:
             self._have_state = True
-            self.robot.set_robot_state(self._q, self._v)
+            self._apply_state()
             self.get_logger().info("first joint state received: control starts")
         if self.trigger == "joint_state":
+            # lockstep: one step per simulated instant, once joint state (and odom) of that instant are in
+            if self.floating and self._odom_stamp != self._state_stamp:
+                return
+            if self._computed_stamp == self._state_stamp:
+                return
+            self._computed_stamp = self._state_stamp
             self._control_step()
 
     # -------------------------------------------------------------- control
@@ -127,7 +175,7 @@ class OrcaControllerNode(Node, ControllerInterfaces):
             self._publish_safe(t, f"joint_states stale (none valid for more than {self.state_timeout * 1e3:.0f} ms)",
                                fresh=False)
             return
-        self.robot.set_robot_state(self._q, self._v)
+        self._apply_state()
         if not self._enabled:
             self._publish_safe(t, "controller disabled (~/enable false)")
             return

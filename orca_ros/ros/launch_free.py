@@ -59,7 +59,9 @@ class Procs:
 class Probe:
     """rclpy node in the calling process, spinning in a thread; records states and commands."""
 
-    def __init__(self, domain: int, controller_ns: str = "/orca_controller"):
+    ARM_JOINTS = [f"joint_{i}" for i in range(7)]
+
+    def __init__(self, domain: int, controller_ns: str = "/orca_controller", joints=None):
         import rclpy
         from geometry_msgs.msg import PoseStamped
         from rclpy.executors import SingleThreadedExecutor
@@ -75,9 +77,16 @@ class Probe:
         self.node = rclpy.create_node("probe", context=self.context)
         self.ns = controller_ns
         self.lock = threading.Lock()
-        self.states: list = []   # (stamp, q)
+        self.joints = list(joints or self.ARM_JOINTS)
+        self.states: list = []   # (stamp, q, v)
+        self.odom: list = []     # (stamp, position, quaternion xyzw)
         self.commands: list = []
         self.node.create_subscription(JointState, "/joint_states", self._on_state, qos_profile_sensor_data)
+        from nav_msgs.msg import Odometry
+        from trajectory_msgs.msg import MultiDOFJointTrajectoryPoint
+
+        self.MultiDOFJointTrajectoryPoint = MultiDOFJointTrajectoryPoint
+        self.node.create_subscription(Odometry, "/odom", self._on_odom, qos_profile_sensor_data)
         from diagnostic_msgs.msg import DiagnosticArray
 
         self.diagnostics: dict = {}
@@ -112,9 +121,14 @@ class Probe:
     def _on_state(self, m):
         stamp = m.header.stamp.sec + m.header.stamp.nanosec * 1e-9
         q = dict(zip(m.name, m.position))
-        if any(f"joint_{i}" not in q for i in range(7)):
+        if any(j not in q for j in self.joints):
             return  # the tests' own malformed states
-        self._append(self.states, (stamp, np.array([q[f"joint_{i}"] for i in range(7)]), np.array(m.velocity)))
+        self._append(self.states, (stamp, np.array([q[j] for j in self.joints]), np.array(m.velocity)))
+
+    def _on_odom(self, m):
+        stamp = m.header.stamp.sec + m.header.stamp.nanosec * 1e-9
+        p, o = m.pose.pose.position, m.pose.pose.orientation
+        self._append(self.odom, (stamp, np.array([p.x, p.y, p.z]), np.array([o.x, o.y, o.z, o.w])))
 
     def _on_diag(self, m):
         for st in m.status:
@@ -161,6 +175,27 @@ class Probe:
         msg.header.frame_id = frame_id
         matrix_to_pose(T, msg.pose)
         self.pub_target[task].publish(msg)
+
+    def send_target_point(self, task: str, position, velocity=(0, 0, 0), acceleration=(0, 0, 0)):
+        """Cartesian target with feed-forward (orientation identity), in the controller's base frame."""
+        from geometry_msgs.msg import Transform, Twist
+
+        key = f"{task}/point"
+        if key not in self.pub_target:
+            self.pub_target[key] = self.node.create_publisher(self.MultiDOFJointTrajectoryPoint,
+                                                              f"{self.ns}/tasks/{task}/target_point", 10)
+            pub = self.pub_target[key]
+            self.wait_for(lambda: pub.get_subscription_count() > 0, 10.0, f"a subscriber on {task}'s target_point")
+        msg = self.MultiDOFJointTrajectoryPoint()
+        tr = Transform()
+        tr.translation.x, tr.translation.y, tr.translation.z = (float(v) for v in position)
+        tr.rotation.w = 1.0
+        msg.transforms = [tr]
+        for vec, out in ((velocity, msg.velocities), (acceleration, msg.accelerations)):
+            tw = Twist()
+            tw.linear.x, tw.linear.y, tw.linear.z = (float(v) for v in vec)
+            out.append(tw)
+        self.pub_target[key].publish(msg)
 
     def call(self, srv_type, name: str, request, timeout: float = 10.0):
         cli = self.node.create_client(srv_type, name)

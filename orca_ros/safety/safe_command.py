@@ -4,7 +4,8 @@ hold(q, v) = g(q) - M(q) k_d v   (g omitted when the drives compensate gravity t
 torque limits. The damping is an acceleration gain (1/s) weighted by the mass matrix, so every joint gets the
 same damping time constant: a plain Nm s/rad gain strong enough for the shoulder makes a light wrist joint
 unstable at a 1 ms control period (measured: the last joint of the arm spun). When trouble starts, the last good command fades linearly into the hold command over ``ramp``
-seconds, so the torques never step.
+seconds, so the torques never step. For a floating-base robot g(q) is the actuated part of the free robot's
+gravity torques (what holds its limbs, not what would keep it standing: no safe command can do that alone).
 """
 from __future__ import annotations
 
@@ -26,7 +27,11 @@ class SafeCommand:
     def hold(self, q: np.ndarray, v: np.ndarray | None) -> np.ndarray:
         n = self.robot.get_nr_of_degrees_of_freedom()
         vs = np.zeros(n) if v is None else v
-        self.robot.set_robot_state(q, vs)
+        if self.robot.is_floating_base():  # keep the last base pose; a floating base gets no support torque
+            r = self.robot
+            r.set_robot_state(r.get_world_to_base_transform(), q, np.zeros(6), vs, r.get_gravity())
+        else:
+            self.robot.set_robot_state(q, vs)
         tau = np.zeros(n) if self.gravity_by_hardware else self.robot.get_joint_gravity_torques().copy()
         if v is not None:
             nb = self.robot.get_configuration_space_dimension() - n

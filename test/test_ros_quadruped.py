@@ -1,0 +1,57 @@
+"""The quadruped through the nodes: bridge (floating base, odom) + controller from config/quadruped_controller.yaml."""
+import time
+
+import numpy as np
+import pytest
+
+pytest.importorskip("rclpy")
+
+from orca_ros.ros.launch_free import Probe, Procs, free_domain_id  # noqa: E402
+
+import orca_ros as orca  # noqa: E402
+from orca_ros.examples import quadruped as quad  # noqa: E402
+
+
+def test_stand_and_shift_through_the_nodes(tmp_path):
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    robot = quad.make_robot()
+    joints = robot.get_joint_names()
+    home = np.array([0.0, 0.0, quad.STAND_HEIGHT])
+    q0 = "[" + ", ".join(f"{v:.3f}" for v in quad.STAND_Q) + "]"
+    procs.start("orca_ros.ros.pybullet_bridge", "-p", "mode:=lockstep", "-p", "urdf_path:=quadruped.urdf",
+                "-p", "floating_base:=true", "-p", f"initial_positions:={q0}",
+                "-p", f"base_position:=[0.0, 0.0, {home[2] + 0.001:.4f}]", name="bridge")
+    procs.start("orca_ros.ros.controller_node", "--params-file", orca.share_path("config", "quadruped_controller.yaml"),
+                "-p", "trigger:=joint_state", name="controller")
+    probe = Probe(domain, joints=joints)
+    try:
+        probe.wait_for(lambda: probe.sim_time() > 1.5, 90, "the controller driving the quadruped")
+        # standing: the base holds its pose
+        with probe.lock:
+            odom = list(probe.odom)
+        assert odom, "no odom from the bridge"
+        stand = np.array([p for t, p, _ in odom if t > 0.5])
+        assert np.abs(stand - home).max() < 2e-3
+        # shift: a +-5 cm sinusoid streamed as target points with velocity/acceleration feed-forward
+        period, amp, duration = 2.0, 0.05, 5.0
+        t0 = probe.sim_time()
+        while probe.sim_time() < t0 + duration:
+            s = probe.sim_time() - t0 + 0.001
+            y, vy, ay = quad.sinusoid(s, amp, period, duration)
+            probe.send_target_point("base", home + [0, y, 0], (0, vy, 0), (0, ay, 0))
+            time.sleep(0.001)
+        probe.wait_sim(0.3)
+        with probe.lock:
+            odom = list(probe.odom)
+        shift = [(t - t0, p) for t, p, _ in odom if t0 + 0.01 < t < t0 + duration]
+        ref = np.array([home + [0, quad.sinusoid(s, amp, period, duration)[0], 0] for s, _ in shift])
+        pos = np.array([p for _, p in shift])
+        assert np.ptp(pos[:, 1]) > 0.09  # the base did swing +-5 cm
+        rms = np.sqrt(np.mean(np.sum((pos - ref) ** 2, axis=1)))
+        print(f"nodes: base sinusoid rms {rms * 1e3:.2f} mm, standing max {np.abs(stand - home).max() * 1e3:.2f} mm")
+        assert rms < 5e-3, f"base sinusoid through the nodes tracked with rms {rms * 1e3:.2f} mm"
+        assert "safe command" not in procs.log("controller")
+    finally:
+        probe.close()
+        procs.stop()
