@@ -39,7 +39,7 @@ def run(solver: str, seconds: float, capture=None):
                 y = 0.03 * np.sin(2 * np.pi * 0.5 * k * 0.001)
                 qc.set_base_target(home + [0, y, 0])
                 t0 = time.perf_counter()
-                ok = c.update(k * 0.001, 0.001)
+                ok = qc.update(k * 0.001, 0.001)
                 times.append(time.perf_counter() - t0)
                 if not ok:
                     raise RuntimeError(f"{solver}: no solution at cycle {k} ({c.get_return_code().value})")

@@ -164,3 +164,71 @@ def test_equality_only_problem_with_contacts_matches_full_kkt(solver):
     np.testing.assert_allclose(sol[nv + 6:nv + 6 + n], chi[nv:nv + n], rtol=1e-6, atol=1e-6)
     np.testing.assert_allclose(sol[nv + 6 + n:], chi[nv + n:], rtol=1e-6, atol=1e-6)
     assert quad.dynamics_residual(c) < 1e-8
+
+
+def _standing(com=False):
+    robot = quad.make_robot()
+    qc = quad.QuadrupedController(robot, "proxqp")
+    return robot, qc
+
+
+def test_com_task_drives_the_centre_of_mass():
+    robot, qc = _standing()
+    c = qc.controller
+    c.remove_task("base")
+    com = c.add_task(orca.CoMTask, "com")
+    com.pid().set_proportional_gain(100.0)
+    com.pid().set_derivative_gain(20.0)
+    p0 = robot.get_center_of_mass()
+    com.set_desired(p0 + [0.0, 0.01, -0.005])
+    com.set_weight(1e3)  # dominant over the posture (1e-3) and the regularisation
+    com.activate()
+    assert qc.update(0.0, 0.001)
+    _, J, _, bias = robot.get_center_of_mass_terms()
+    acc = J @ c.get_reduced_solution()[:18] + bias
+    np.testing.assert_allclose(acc, [0.0, 1.0, -0.5], atol=2e-3)  # the PD command (at rest: kp * error)
+    np.testing.assert_allclose(com.get_position_error(), [0.0, 0.01, -0.005], atol=1e-12)
+    # the contact forces carry the CoM's acceleration: sum f = m (a_com - g)
+    F = qc.contact_forces().sum(axis=0)
+    np.testing.assert_allclose(F, robot.get_total_mass() * (acc - quad.GRAVITY), atol=1e-6)
+
+
+def test_wrench_task_sets_a_contact_force_and_switched_off_contacts_carry_nothing():
+    robot, qc = _standing()
+    c = qc.controller
+    wt = c.add_task(orca.WrenchTask("FL_wrench", qc.contacts["FL"]))
+    wt.set_desired([0.0, 0.0, 20.0, 0.0, 0.0, 0.0])
+    wt.set_weight(10.0)
+    wt.activate()
+    assert qc.update(0.0, 0.001)
+    np.testing.assert_allclose(qc.contact_forces()[0], [0.0, 0.0, 20.0], atol=0.05)
+    # a switched-off contact (ramp 0.2 s) carries nothing once its ramp is over
+    wt.deactivate()
+    qc.contacts["FR"].deactivate()
+    for k in range(1, 260):
+        assert c.update(k * 0.001, 0.001)
+        assert qc.contact_forces()[1, 2] <= qc.contacts["FR"].normal_force_bound() + 1e-9
+    assert qc.contacts["FR"].is_deactivated()
+    np.testing.assert_allclose(qc.contacts["FR"].get_wrench(c.get_reduced_solution()), 0.0, atol=1e-8)
+
+
+def test_surface_contact_points_share_the_load_inside_their_cones():
+    robot = quad.make_robot()
+    c = orca.Controller("c", robot)
+    corners = [[0.02, 0.02, -0.02], [0.02, -0.02, -0.02], [-0.02, 0.02, -0.02], [-0.02, -0.02, -0.02]]
+    pads = []
+    for leg in LEGS:
+        for ct in orca.surface_contact(f"{leg}_pad", f"{leg}_foot", corners, friction_coefficient=0.7,
+                                       number_of_faces=6):
+            pads.append(c.add_constraint(ct))
+    assert c.layout.nx == 18 + 6 * 16
+    base = c.add_task(orca.CartesianTask, "base")
+    base.set_control_frame("trunk")
+    c.activate_tasks_and_constraints()
+    assert c.update(0.0, 0.001)
+    x = c.get_reduced_solution()
+    F = np.array([p.get_wrench(x) for p in pads])
+    np.testing.assert_allclose(F[:, 3:], 0.0, atol=1e-8)  # point contacts: no torque (solver tolerance)
+    assert np.all(np.linalg.norm(F[:, :2], axis=1) <= 0.7 * F[:, 2] + 1e-6)
+    assert abs(F[:, 2].sum() - robot.get_total_mass() * 9.81) < 0.5
+    assert quad.dynamics_residual(c) < 1e-8

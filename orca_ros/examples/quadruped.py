@@ -64,8 +64,10 @@ class QuadrupedController:
             ct.set_friction_coefficient(mu)
             ct.set_margin(margin)
             ct.set_maximum_normal_force(300.0)
-            ct.set_ramp_duration(contact_ramp)
+            ct.set_ramp_duration(0.0)  # standing from the first cycle; later switches ramp (see update)
             self.contacts[leg] = c.add_constraint(ct)
+        self.contact_ramp = contact_ramp
+        self._started = False
         self.base = c.add_task(CartesianTask, "base")
         self.base.set_control_frame("trunk")
         pid = self.base.servo_controller().pid()
@@ -92,6 +94,14 @@ class QuadrupedController:
             obj.activate()
         for obj in c.get_constraints():
             obj.activate()
+
+    def update(self, t: float, dt: float) -> bool:
+        ok = self.controller.update(t, dt)
+        if not self._started:
+            self._started = True
+            for ct in self.contacts.values():
+                ct.set_ramp_duration(self.contact_ramp)
+        return ok
 
     def set_base_target(self, position, velocity=None, acceleration=None) -> None:
         T = np.eye(4)
@@ -201,7 +211,7 @@ def run_in_pybullet(scenario: str = "all", solver="proxqp", gui: bool = False, s
             robot.set_robot_state(sim.get_world_to_base_transform(), sim.get_joint_positions(),
                                   sim.get_base_velocity(), sim.get_joint_velocities(), GRAVITY)
             qc.set_base_target(target, vel, acc)
-            if not c.update(t, dt):
+            if not qc.update(t, dt):
                 log.failures += 1
             sim.set_joint_torque_command(c.get_joint_torque_command())
             server.step()
