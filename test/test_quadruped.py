@@ -232,3 +232,38 @@ def test_surface_contact_points_share_the_load_inside_their_cones():
     assert np.all(np.linalg.norm(F[:, :2], axis=1) <= 0.7 * F[:, 2] + 1e-6)
     assert abs(F[:, 2].sum() - robot.get_total_mass() * 9.81) < 0.5
     assert quad.dynamics_residual(c) < 1e-8
+
+
+@pytest.mark.parametrize("strategy", ["multi_level_weighted", "generalized"])
+def test_priority_levels_with_contacts(strategy):
+    """Base position at level 0 (with four feet held, the base orientation is what is left), a posture pulling
+    elsewhere at level 1: the base task's residual does not depend on the posture; contacts, cones and dynamics
+    hold at every level."""
+    out = {}
+    for with_posture in (False, True):
+        robot = quad.make_robot()
+        c = orca.Controller("c", robot, strategy)
+        contacts = [c.add_constraint(orca.Contact(f"{leg}_c", f"{leg}_foot")) for leg in LEGS]
+        base = c.add_task(orca.CartesianTask, "base", level=0)
+        base.set_control_frame("trunk")
+        T = robot.get_frame_pose("trunk")
+        T[:3, 3] += [0.0, 0.01, -0.01]
+        base.servo_controller().set_desired(T)
+        base.set_selection_vector([1, 1, 1, 0, 0, 0])
+        if with_posture:
+            post = c.add_task(orca.JointAccelerationTask, "posture", level=1)
+            post.set_desired(quad.STAND_Q + 0.2)
+            post.pid().set_proportional_gain(100.0)
+        c.activate_tasks_and_constraints()
+        assert c.update(0.0, 0.001), c.get_return_code()
+        x = c.get_reduced_solution()
+        out[with_posture] = (base.residual(x), x)
+        for lev in c.get_levels():
+            p = c.get_problem_at_level(lev)
+            assert p.max_constraint_violation(p.x) < 1e-6
+        assert quad.dynamics_residual(c) < 1e-8
+        for ct in contacts:
+            f = ct.get_wrench(x)[:3]
+            assert np.linalg.norm(f[:2]) <= ct.mu * f[2] + 1e-6
+    np.testing.assert_allclose(out[True][0], out[False][0], atol=1e-7)
+    assert np.linalg.norm(out[True][1] - out[False][1]) > 1e-3  # the posture did act, in what was left
