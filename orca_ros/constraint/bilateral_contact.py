@@ -10,8 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .contact import ContactBase
-from .generic_constraint import GenericConstraint
+from .contact import ContactBase, ContactExistenceCondition
 
 
 class BilateralContact(ContactBase):
@@ -19,7 +18,7 @@ class BilateralContact(ContactBase):
         super().__init__(name)
         self.other_frame = other_frame
         self._other_fid = None
-        self.existence = BilateralExistenceCondition(f"{name}_existence", self)
+        self.existence = ContactExistenceCondition(f"{name}_existence", self)
         self.wrench_lower[:] = -np.inf
         self.wrench_upper[:] = np.inf
         if frame is not None:
@@ -40,30 +39,13 @@ class BilateralContact(ContactBase):
         _, Jb, _, bias_b = self.robot.world_frame_terms(self._other_fid)
         return J - Jb, bias - bias_b
 
+    existence_rows = 6
+
+    def existence_terms(self):
+        return self.relative_terms()
+
     def fill_wrench_jacobian(self, out: np.ndarray) -> None:
         out[:] = self.relative_terms()[0]
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
         pass
-
-
-class BilateralExistenceCondition(GenericConstraint):
-    kind = "equality"
-
-    def __init__(self, name: str, contact: BilateralContact):
-        super().__init__(name)
-        self.contact = contact
-
-    def is_computing(self) -> bool:
-        return self.contact.is_computing()
-
-    def rows(self) -> int:
-        return 6
-
-    def update(self, current_time: float, dt: float) -> None:
-        if not self.contact.is_computing():
-            return
-        J, bias = self.contact.relative_terms()
-        self.C[:, self.layout.acc] = J
-        self.lb[:] = -bias
-        self.ub[:] = self.lb

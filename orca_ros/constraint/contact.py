@@ -183,6 +183,12 @@ class Contact(ContactBase):
     def point_terms(self):
         return point_terms(self.robot, self._fid, self.offset)
 
+    existence_rows = 3
+
+    def existence_terms(self):
+        _, J, _, bias = self.point_terms()
+        return J[:3], bias[:3]
+
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
         ws = self.wrench_slice()
         f = slice(ws.start, ws.start + 3)
@@ -205,11 +211,12 @@ class Contact(ContactBase):
 
 
 class ContactExistenceCondition(GenericConstraint):
-    """The contact point does not accelerate while its contact is on (linear rows of J_p)."""
+    """While its contact is on, the contact does not move: J nu_dot + J_dot nu = 0 on the rows the contact gives
+    (:meth:`existence_terms`: the point's linear rows, or the 6 relative rows of a bilateral contact)."""
 
     kind = "equality"
 
-    def __init__(self, name: str, contact: Contact):
+    def __init__(self, name: str, contact):
         super().__init__(name)
         self.contact = contact
 
@@ -217,19 +224,16 @@ class ContactExistenceCondition(GenericConstraint):
         return self.contact.is_computing()
 
     def rows(self) -> int:
-        return 3
-
-    def _update(self, current_time: float, dt: float) -> None:
-        if not self.contact.is_computing():
-            return
-        _, J, _, bias = self.contact.point_terms()
-        self.C[:, self.layout.acc] = J[:3]
-        self.lb[:] = -bias[:3]
-        self.ub[:] = self.lb
+        return self.contact.existence_rows
 
     def update(self, current_time: float, dt: float) -> None:
         self.state, self._ramp_factor = self.contact.state, self.contact.get_ramp_value()  # mirrors it
-        self._update(current_time, dt)
+        if not self.contact.is_computing():
+            return
+        J, bias = self.contact.existence_terms()
+        self.C[:, self.layout.acc] = J
+        self.lb[:] = -bias
+        self.ub[:] = self.lb
 
 
 def surface_contact(name: str, frame: str, points, **settings) -> list[Contact]:
@@ -237,20 +241,17 @@ def surface_contact(name: str, frame: str, points, **settings) -> list[Contact]:
     the frame's axes, e.g. the sole's corners): wrenches at several points give the surface's centre of
     pressure and torsional friction. ``settings``: friction_coefficient, margin, number_of_faces,
     contact_normal, maximum_normal_force, ramp_duration. Add each returned contact to the controller."""
+    setters = {"number_of_faces": "set_number_of_faces", "friction_coefficient": "set_friction_coefficient",
+               "margin": "set_margin", "contact_normal": "set_contact_normal",
+               "maximum_normal_force": "set_maximum_normal_force", "ramp_duration": "set_ramp_duration"}
+    unknown = set(settings) - set(setters)
+    if unknown:
+        raise ValueError(f"surface_contact '{name}': unknown settings {sorted(unknown)}")
     out = []
     for i, p in enumerate(points):
         c = Contact(f"{name}_{i}", frame, offset=p)
-        if "number_of_faces" in settings:
-            c.set_number_of_faces(settings["number_of_faces"])
-        if "friction_coefficient" in settings:
-            c.set_friction_coefficient(settings["friction_coefficient"])
-        if "margin" in settings:
-            c.set_margin(settings["margin"])
-        if "contact_normal" in settings:
-            c.set_contact_normal(settings["contact_normal"])
-        if "maximum_normal_force" in settings:
-            c.set_maximum_normal_force(settings["maximum_normal_force"])
-        if "ramp_duration" in settings:
-            c.set_ramp_duration(settings["ramp_duration"])
+        for key in setters:  # in this order: the faces before the coefficient and margin that use them
+            if key in settings:
+                getattr(c, setters[key])(settings[key])
         out.append(c)
     return out
