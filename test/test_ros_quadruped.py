@@ -55,3 +55,47 @@ def test_stand_and_shift_through_the_nodes(tmp_path):
     finally:
         probe.close()
         procs.stop()
+
+
+def test_stale_odom_gives_the_safe_command(tmp_path):
+    """A floating-base controller whose odom stops (joint states still coming) switches to the safe command and
+    says why; the commands stay finite."""
+    from nav_msgs.msg import Odometry
+    from sensor_msgs.msg import JointState
+
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    robot = quad.make_robot()
+    joints = robot.get_joint_names()
+    procs.start("orca_ros.ros.controller_node", "--params-file", orca.share_path("config", "quadruped_controller.yaml"),
+                name="controller")
+    probe = Probe(domain, joints=joints)
+    pub_odom = probe.node.create_publisher(Odometry, "/odom", 10)
+    try:
+        probe.wait_for(lambda: probe.pub_state.get_subscription_count() > 0 and pub_odom.get_subscription_count() > 0,
+                       30, "the controller's state subscriptions")
+
+        def publish(with_odom):
+            now = probe.node.get_clock().now().to_msg()
+            js = JointState(name=joints, position=[float(v) for v in quad.STAND_Q], velocity=[0.0] * 12)
+            js.header.stamp = now
+            probe.pub_state.publish(js)
+            if with_odom:
+                od = Odometry()
+                od.header.stamp = now
+                od.pose.pose.position.z = float(quad.STAND_HEIGHT)
+                od.pose.pose.orientation.w = 1.0
+                pub_odom.publish(od)
+
+        for with_odom, duration in ((True, 1.0), (False, 0.6)):
+            t_end = time.time() + duration
+            while time.time() < t_end:
+                publish(with_odom)
+                time.sleep(0.005)
+        probe.wait_for(lambda: "odom stale" in procs.log("controller"), 10, "the stale-odom log line")
+        with probe.lock:
+            cmds = np.array(probe.commands)
+        assert len(cmds) > 100 and np.all(np.isfinite(cmds))
+    finally:
+        probe.close()
+        procs.stop()

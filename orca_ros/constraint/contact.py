@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..common.task_base import ActivationState
 from .generic_constraint import GenericConstraint
 
 
@@ -168,7 +169,7 @@ class Contact(ContactBase):
         if not self.is_computing():
             return 0.0
         rho = self.get_ramp_value()
-        if self._release_force is not None and self.state.value == "deactivating":
+        if self._release_force is not None and self.state is ActivationState.DEACTIVATING:
             return rho * self._release_force
         return rho * self.maximum_normal_force
 
@@ -206,7 +207,7 @@ class Contact(ContactBase):
         else:
             self.wrench_lower[:3], self.wrench_upper[:3] = 0.0, 0.0
         self.wrench_lower[3:], self.wrench_upper[3:] = 0.0, 0.0
-        if self.state.value == "activated":
+        if self.state is ActivationState.ACTIVATED:
             self._release_force = None
 
 

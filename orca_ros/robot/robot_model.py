@@ -313,8 +313,8 @@ class RobotModel:
                 - self.get_generalized_gravity_torques())[self.nbase:].copy()
 
     # ------------------------------------------------------------------ frames (world aligned, cached)
-    def _world_frame_terms(self, fid: int):
-        """(world_H_frame, J, velocity, bias acceleration) in world axes; cached per state."""
+    def world_frame_terms(self, fid: int):
+        """(world_H_frame, J, velocity, bias acceleration) of frame ``fid`` in world axes; cached per state."""
         hit = self._frame_cache.get(fid)
         if hit is not None and hit[0] == self._stamp:
             return hit[1]
@@ -329,33 +329,32 @@ class RobotModel:
         self._frame_cache[fid] = (self._stamp, terms)
         return terms
 
-    def world_frame_terms(self, frame_id: int):
-        """(world_H_frame, J, velocity, bias acceleration) of a frame in world axes (contacts use these)."""
-        return self._world_frame_terms(frame_id)
+    def _com_kinematics(self) -> ComKinematics:
+        self._require_model()
+        if self._com is None:
+            self._com = ComKinematics(self)
+        return self._com
 
     def get_center_of_mass_terms(self):
         """(position, Jacobian 3 x nv, velocity, bias J_dot nu) of the centre of mass, world axes."""
-        if self._com is None:
-            self._com = ComKinematics(self)
-        return self._com.terms()
+        return self._com_kinematics().terms()
 
     def get_center_of_mass(self) -> np.ndarray:
         return self.get_center_of_mass_terms()[0].copy()
 
     def get_total_mass(self) -> float:
-        self._require_model()
-        return float(pin.computeTotalMass(self.model))
+        return self._com_kinematics().mass
 
     def _base_terms(self):
         if self._base_is_world:
             return None
         if self._base_static:
             return self._base_static_T, None, None, None
-        return self._world_frame_terms(self._base_fid)
+        return self.world_frame_terms(self._base_fid)
 
     def frame_terms(self, frame_id: int):
         """(pose 4x4, Jacobian 6xnv, velocity 6, bias acceleration 6) of a frame in the base frame."""
-        tip = self._world_frame_terms(frame_id)
+        tip = self.world_frame_terms(frame_id)
         base = self._base_terms()
         if base is None:
             return tip
@@ -388,7 +387,7 @@ class RobotModel:
         if fid < 0:
             nv = self.model.nv
             return np.eye(4), np.zeros((6, nv)), np.zeros(6), np.zeros(6)
-        return self._world_frame_terms(fid)
+        return self.world_frame_terms(fid)
 
     def get_relative_transform(self, reference_frame: str, frame: str) -> np.ndarray:
         """reference_H_frame."""

@@ -51,7 +51,8 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         self._q = np.zeros(self.n)
         self._v = np.zeros(self.n)
         self._state_stamp = None
-        self._state_wall = None
+        self._state_wall = None  # wall time of the last valid joint state
+        self._odom_wall = None   # ... and of the last valid odom (floating base)
         self._have_state = False
         self._last_cmd = np.zeros(self.n)  # model order
         self._enabled = True
@@ -125,6 +126,7 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         self._base_twist[:3] = R @ vals[7:10]  # child frame -> world axes
         self._base_twist[3:] = R @ vals[10:13]
         self._odom_stamp = stamp_to_sec(msg.header.stamp)
+        self._odom_wall = time.monotonic()
         self._on_new_state()
 
     def _state_ready(self) -> bool:
@@ -171,8 +173,11 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         t = self._now()
         dt = self.period if self._t_prev is None else max(1e-6, t - self._t_prev)
         self._t_prev = t
-        if wall - self._state_wall > self.state_timeout:
-            self._publish_safe(t, f"joint_states stale (none valid for more than {self.state_timeout * 1e3:.0f} ms)",
+        stale = "joint_states" if wall - self._state_wall > self.state_timeout else None
+        if stale is None and self.floating and wall - self._odom_wall > self.state_timeout:
+            stale = "odom"
+        if stale is not None:
+            self._publish_safe(t, f"{stale} stale (none valid for more than {self.state_timeout * 1e3:.0f} ms)",
                                fresh=False)
             return
         self._apply_state()
