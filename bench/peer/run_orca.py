@@ -1,0 +1,196 @@
+"""One scenario of scenarios.py run with orca_ros (default settings); prints one JSON line.
+
+Timed per step: set_robot_state + Controller.update() + reading the torque command (what the node does between
+a new state and its command). ``--floor`` times instead the least any Python controller on this stack spends
+on the same problem: one Pinocchio computeAllTerms + one warm-started dense ProxQP solve of the controller's
+own QP of that step (captured beforehand).
+
+Usage: python run_orca.py SCENARIO [--steps N] [--solver NAME] [--floor]
+"""
+from __future__ import annotations
+
+import argparse
+import gc
+import json
+import time
+
+import numpy as np
+import pinocchio as pin
+
+import orca_ros as orca
+import scenarios as S
+
+
+def build(sc, solver=None):
+    robot = orca.RobotModel()
+    robot.load_model_from_file(S.urdf_path(sc), floating_base=sc["floating"])
+    model = robot.model
+    q = S.initial_configuration(sc, model)
+    v = np.zeros(model.nv)
+    if sc["floating"]:
+        robot.set_base_frame("world")
+    set_state(robot, q, v)
+    kw = {} if solver is None else {"solver": solver}
+    c = orca.Controller("bench", robot, **kw)
+    h = {}
+    if "ee" in sc:
+        e = sc["ee"]
+        t = c.add_task(orca.CartesianTask, "ee")
+        t.set_control_frame(e["frame"])
+        t.set_weight(e["weight"])
+        pid = t.servo_controller().pid()
+        pid.set_proportional_gain(e["kp"])
+        pid.set_derivative_gain(e["kd"])
+        h["ee"] = (t, robot.get_frame_pose(e["frame"]), e["amplitude"])
+    if "com" in sc:
+        e = sc["com"]
+        t = c.add_task(orca.CoMTask, "com")
+        t.set_weight(e["weight"])
+        t.pid().set_proportional_gain(e["kp"])
+        t.pid().set_derivative_gain(e["kd"])
+        h["com"] = (t, robot.get_center_of_mass(), e["amplitude"])
+    p = sc["posture"]
+    post = c.add_task(orca.JointAccelerationTask, "posture")
+    post.set_weight(p["weight"])
+    post.pid().set_proportional_gain(p["kp"])
+    post.pid().set_derivative_gain(p["kd"])
+    post.set_desired(robot.get_joint_positions())
+    if "points" in sc:
+        cp = sc["points"]
+        for f in cp["frames"]:
+            ct = orca.Contact(f, f)
+            ct.set_friction_coefficient(cp["mu"])
+            ct.set_maximum_normal_force(cp["fmax"])
+            c.add_constraint(ct)
+    if "soles" in sc:
+        cp = sc["soles"]
+        for f in cp["frames"]:
+            for ct in orca.surface_contact(f, f, S.sole_corners(sc), friction_coefficient=cp["mu"],
+                                           maximum_normal_force=cp["fmax"] / 4):
+                c.add_constraint(ct)
+    lim = {"torque": orca.JointTorqueLimitConstraint, "position": orca.JointPositionLimitConstraint,
+           "velocity": orca.JointVelocityLimitConstraint}
+    for name in sc["limits"]:
+        c.add_constraint(lim[name], f"{name}_limit")
+    for obj in c.get_tasks() + c.get_constraints():
+        obj.set_ramp_duration(0.0)
+    c.activate_tasks_and_constraints()
+    return robot, model, c, h, q, v
+
+
+def set_state(robot, q, v):
+    if robot.is_floating_base():
+        T = pin.XYZQUATToSE3(q[:7]).homogeneous
+        R = T[:3, :3]
+        twist = np.concatenate((R @ v[:3], R @ v[3:6]))
+        robot.set_robot_state(T, q[7:], twist, v[6:], np.array([0.0, 0.0, -9.81]))
+    else:
+        robot.set_robot_state(q, v)
+
+
+def _set_refs(h, t):
+    for key, (task, ref0, amp) in h.items():
+        off = S.reference_offset(amp, t)
+        if key == "ee":
+            T = ref0.copy()
+            T[:3, 3] += off
+            task.servo_controller().set_desired(T)
+        else:
+            task.set_desired(ref0 + off)
+
+
+def _errors(h, robot):
+    out = {}
+    for key, (task, ref0, amp) in h.items():
+        err = task.servo_controller().get_cartesian_pose_error()[:3] if key == "ee" else task.get_position_error()
+        out[key] = float(np.linalg.norm(err))
+    return out
+
+
+def run(name, n_steps=None, solver=None, capture=None):
+    sc = S.SCENARIOS[name]
+    robot, model, c, h, q, v = build(sc, solver)
+    n = n_steps or S.steps(sc)
+    times = np.empty(n)
+    failures = 0
+    nb = 6 if sc["floating"] else 0
+    gc.collect()
+    gc.disable()
+    for k in range(n):
+        t = k * S.DT
+        _set_refs(h, t)
+        t0 = time.perf_counter()
+        set_state(robot, q, v)
+        ok = c.update(t, S.DT)
+        tau = c.get_joint_torque_command()
+        times[k] = time.perf_counter() - t0
+        if not ok:
+            failures += 1
+        if capture is not None:
+            capture.append((robot._q_pin.copy(), robot._v_pin.copy(), c.get_problem_at_level(0)))
+        dv = c.get_solution()[:model.nv]
+        v = v + S.DT * dv
+        q = pin.integrate(model, q, S.DT * v)
+    gc.enable()
+    p = c.get_problem_at_level(0)
+    return {"impl": "orca", "solver": c.solver.value, "scenario": name, **S.stats(times[min(100, n // 10):]),
+            "failures": failures, "errors": _errors(h, robot), "nvar": int(p.layout.nx), "neq": int(p.n_eq),
+            "nin": int(p.n_in), "tau_norm": float(np.linalg.norm(tau))}
+
+
+def floor(name, n_steps=None):
+    """computeAllTerms + one warm-started dense ProxQP solve of the same QPs (values captured in a first run)."""
+    import proxsuite
+
+    sc = S.SCENARIOS[name]
+    n = n_steps or S.steps(sc)
+    qps = []
+    robot, model, c, h, q, v = build(sc)
+    p = c.get_problem_at_level(0)
+    cap = []
+    for k in range(n):
+        t = k * S.DT
+        _set_refs(h, t)
+        set_state(robot, q, v)
+        c.update(t, S.DT)
+        cap.append((robot._q_pin.copy(), robot._v_pin.copy()) + tuple(
+            a.copy() for a in (p.H, p.g, p.A, p.b, p.C, p.l, p.u, p.lbox, p.ubox)))
+        dv = c.get_solution()[:model.nv]
+        v = v + S.DT * dv
+        q = pin.integrate(model, q, S.DT * v)
+    data = model.createData()
+    nx, ne, ni = p.layout.nx, p.n_eq, p.n_in
+    qp = proxsuite.proxqp.dense.QP(nx, ne, ni, True)
+    qp.settings.eps_abs = 1e-9
+    qp.settings.eps_rel = 0.0
+    qp.settings.verbose = False
+    args = lambda c_: (c_[2], c_[3], c_[4] if ne else None, c_[5] if ne else None, c_[6] if ni else None,  # noqa: E731
+                       c_[7] if ni else None, c_[8] if ni else None, c_[9], c_[10])
+    qp.init(*args(cap[0]))
+    qp.solve()
+    qp.settings.initial_guess = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
+    times = np.empty(n)
+    gc.collect()
+    gc.disable()
+    for k, c_ in enumerate(cap):
+        t0 = time.perf_counter()
+        pin.computeAllTerms(model, data, c_[0], c_[1])
+        qp.update(*args(c_))
+        qp.solve()
+        times[k] = time.perf_counter() - t0
+    gc.enable()
+    return {"impl": "floor", "scenario": name, **S.stats(times[min(100, n // 10):])}
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("scenario", choices=sorted(S.SCENARIOS))
+    ap.add_argument("--steps", type=int, default=None)
+    ap.add_argument("--solver", default=None)
+    ap.add_argument("--floor", action="store_true")
+    a = ap.parse_args()
+    print(json.dumps(floor(a.scenario, a.steps) if a.floor else run(a.scenario, a.steps, a.solver)))
+
+
+if __name__ == "__main__":
+    main()
