@@ -47,7 +47,7 @@ def _residual(c, name):
     return c.get_task(name).residual(c.get_reduced_solution())
 
 
-@pytest.mark.parametrize("solver", [orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
+@pytest.mark.parametrize("solver", [orca.QPSolver.DAQP, orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
 def test_level_zero_unaffected_by_level_one(lwr_urdf, solver):
     MLW = orca.ResolutionStrategy.MULTI_LEVEL_WEIGHTED
     _, alone = _controller(lwr_urdf, MLW, solver, with_elbow=False)
@@ -85,7 +85,7 @@ def _saturated(urdf, strategy, solver, with_elbow):
     return c, lim
 
 
-@pytest.mark.parametrize("solver", [orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
+@pytest.mark.parametrize("solver", [orca.QPSolver.DAQP, orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
 def test_unachievable_level_zero_leaves_room_to_level_one(lwr_urdf, solver):
     MLW = orca.ResolutionStrategy.MULTI_LEVEL_WEIGHTED
     both, lim = _saturated(lwr_urdf, MLW, solver, True)
@@ -153,7 +153,7 @@ def _priorities(c, value):
                 c.set_priority(hi, lo, value)
 
 
-@pytest.mark.parametrize("solver", [orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
+@pytest.mark.parametrize("solver", [orca.QPSolver.DAQP, orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
 @pytest.mark.parametrize("posture", [False, True], ids=["two_levels", "three_levels"])
 def test_generalized_ends_are_weighted_and_strict(lwr_urdf, solver, posture):
     GEN = orca.ResolutionStrategy.GENERALIZED

@@ -38,7 +38,7 @@ def _arm(urdf, solver, constrained=True, seed=0):
     return robot, c, rng
 
 
-@pytest.mark.parametrize("solver", [orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
+@pytest.mark.parametrize("solver", [orca.QPSolver.DAQP, orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
 def test_every_solution_satisfies_its_constraints(lwr_urdf, solver):
     active_seen = 0
     for seed in range(8):
@@ -73,7 +73,7 @@ def test_osqp_and_proxqp_agree(lwr_urdf):
             assert np.linalg.norm(xo - xp) <= 1e-6 * np.linalg.norm(xp)
 
 
-@pytest.mark.parametrize("solver", [orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
+@pytest.mark.parametrize("solver", [orca.QPSolver.DAQP, orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
 def test_equality_only_problem_matches_full_kkt(lwr_urdf, solver):
     """Reduced QP vs the reference's full formulation chi = [q_ddot, tau] with the dynamics as equality,
     solved in closed form from its KKT system (built here independently from Pinocchio's terms)."""

@@ -115,7 +115,7 @@ def test_free_fall_without_contacts():
     assert quad.dynamics_residual(c) < 1e-8
 
 
-@pytest.mark.parametrize("solver", [orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
+@pytest.mark.parametrize("solver", [orca.QPSolver.DAQP, orca.QPSolver.PROXQP, orca.QPSolver.OSQP])
 def test_equality_only_problem_with_contacts_matches_full_kkt(solver):
     """A foot welded to the ground (bilateral contact: equalities only; a 6-D weld on a second 3-DoF leg would
     over-constrain the robot), base pose and posture tasks: the reduced QP's solution equals the full formulation

@@ -7,7 +7,7 @@ from orca_ros.examples import simulating_results
 from orca_ros.examples.common import add_standard_constraints, make_cartesian_servo, make_controller, make_robot
 
 
-@pytest.mark.parametrize("solver", ["proxqp", "osqp"])
+@pytest.mark.parametrize("solver", ["daqp", "proxqp", "osqp"])
 def test_arm_reaches_target_within_limits(lwr_urdf, solver):
     res = simulating_results.run(lwr_urdf, solver, duration=10.0)
     assert res["ok"], "every cycle must have a solution"

@@ -102,7 +102,7 @@ def build_from_config(cfg: dict) -> ControllerSetup:
     n = robot.get_nr_of_degrees_of_freedom()
 
     try:
-        solver = QPSolver.from_string(cfg.get("solver", "proxqp"))
+        solver = QPSolver.from_string(cfg.get("solver", "daqp"))
         strategy = ResolutionStrategy.from_string(cfg.get("resolution_strategy", "one_level_weighted"))
     except ValueError as exc:
         raise ConfigError(str(exc)) from None

@@ -25,7 +25,7 @@ def parse_args(description: str, argv=None, extra=None):
     rest = Logger.parse_argv(argv)
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("urdf", nargs="?", default=None, help="robot URDF (default: the shipped lwr.urdf)")
-    parser.add_argument("--solver", default="proxqp", choices=[s.value for s in QPSolver])
+    parser.add_argument("--solver", default="daqp", choices=[s.value for s in QPSolver])
     if extra is not None:
         extra(parser)
     args = parser.parse_args(rest)
@@ -46,7 +46,7 @@ def make_robot(urdf: str):
     return robot, state
 
 
-def make_controller(robot, solver: str = "proxqp") -> Controller:
+def make_controller(robot, solver: str = "daqp") -> Controller:
     return Controller("controller", robot, ResolutionStrategy.ONE_LEVEL_WEIGHTED, QPSolver.from_string(solver))
 
 

@@ -18,7 +18,7 @@ from .common import (
 )
 
 
-def run(urdf: str, solver: str = "proxqp", total_time: float = 1.0, dt: float = 0.001,
+def run(urdf: str, solver: str = "daqp", total_time: float = 1.0, dt: float = 0.001,
         output: str = "plotting_torques.png", show: bool = False):
     robot, state = make_robot(urdf)
     controller = make_controller(robot, solver)

@@ -54,7 +54,7 @@ def make_robot(urdf: str | None = None) -> RobotModel:
 class QuadrupedController:
     """The standing controller and the handles the scenarios use."""
 
-    def __init__(self, robot: RobotModel, solver="proxqp", mu: float = 0.8, margin: float = 0.1,
+    def __init__(self, robot: RobotModel, solver="daqp", mu: float = 0.8, margin: float = 0.1,
                  contact_ramp: float = 0.2, strategy=ResolutionStrategy.ONE_LEVEL_WEIGHTED):
         self.robot = robot
         c = self.controller = Controller("quadruped", robot, strategy, QPSolver.from_string(str(solver)))
@@ -187,7 +187,7 @@ def sinusoid(s: float, amplitude: float, period: float, duration: float):
     return A * e * sin, A * (de * sin + e * w * cos), A * (dde * sin + 2 * de * w * cos - e * w * w * sin)
 
 
-def run_in_pybullet(scenario: str = "all", solver="proxqp", gui: bool = False, stand_time: float = 10.0,
+def run_in_pybullet(scenario: str = "all", solver="daqp", gui: bool = False, stand_time: float = 10.0,
                     shift_time: float = 5.0, amplitude: float = 0.05, period: float = 2.0, lift: float = 0.05):
     """Closed loop on PyBullet at 1 kHz; returns (log, phase boundaries dict)."""
     from ..sim import SimServer
@@ -284,7 +284,7 @@ def main(argv=None) -> int:
     rest = Logger.parse_argv(argv)
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scenario", default="all", choices=["stand", "shift", "lift", "all"])
-    ap.add_argument("--solver", default="proxqp", choices=[s.value for s in QPSolver])
+    ap.add_argument("--solver", default="daqp", choices=[s.value for s in QPSolver])
     ap.add_argument("--gui", action="store_true")
     ap.add_argument("--stand-time", type=float, default=10.0)
     args = ap.parse_args(rest)

@@ -12,7 +12,7 @@ from .common import add_standard_constraints, make_cartesian_servo, make_control
 _LOG = get_logger("examples.simple_controller")
 
 
-def run(urdf: str, solver: str = "proxqp", duration: float = 2.0, dt: float = 0.001):
+def run(urdf: str, solver: str = "daqp", duration: float = 2.0, dt: float = 0.001):
     robot, state = make_robot(urdf)
     controller = make_controller(robot, solver)
     # the desired orientation can be written in several equivalent ways

@@ -40,7 +40,7 @@ def reachable_target(robot, target=REFERENCE_TARGET, fraction: float = 0.8,
     return shoulder + d / dist * min(dist, fraction * length)
 
 
-def run(urdf: str, solver: str = "proxqp", duration: float = 10.0, dt: float = 0.001,
+def run(urdf: str, solver: str = "daqp", duration: float = 10.0, dt: float = 0.001,
         remove_gravity: bool = False):
     robot, state = make_robot(urdf)
     controller = make_controller(robot, solver)

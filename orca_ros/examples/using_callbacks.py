@@ -50,7 +50,7 @@ class TaskMonitor:
         print("[TaskMonitor] deactivated")
 
 
-def run(urdf: str, solver: str = "proxqp", dt: float = 0.1, ramp: float = 0.5, delay_s: float = 0.0):
+def run(urdf: str, solver: str = "daqp", dt: float = 0.1, ramp: float = 0.5, delay_s: float = 0.0):
     robot, _ = make_robot(urdf)
     controller = make_controller(robot, solver)
     target = make_transform([0.3, -0.5, 0.41], quat_from_rpy(np.pi, 0, 0))

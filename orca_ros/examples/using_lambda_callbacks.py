@@ -20,7 +20,7 @@ from .common import (
 )
 
 
-def run(urdf: str, solver: str = "proxqp", duration: float = 5.0, loops: int = 4, dt: float = 0.001):
+def run(urdf: str, solver: str = "daqp", duration: float = 5.0, loops: int = 4, dt: float = 0.001):
     robot, state = make_robot(urdf)
     controller = make_controller(robot, solver)
     servo = make_cartesian_servo("link_7")

@@ -28,7 +28,7 @@ _LOG = get_logger("controller")
 
 class Controller:
     def __init__(self, name: str, robot, resolution_strategy=ResolutionStrategy.ONE_LEVEL_WEIGHTED,
-                 solver=QPSolver.PROXQP):
+                 solver=QPSolver.DAQP):
         if robot is None or getattr(robot, "model", None) is None:
             raise ValueError("Controller needs a RobotModel with a loaded URDF")
         if isinstance(resolution_strategy, str):

@@ -32,7 +32,7 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         super().__init__("orca_controller", automatically_declare_parameters_from_overrides=True, **kwargs)
         cfg = {k: param(self, k, d) for k, d in (
             ("urdf_path", "lwr.urdf"), ("robot_description", ""), ("base_frame", ""), ("joints", []),
-            ("solver", "proxqp"), ("resolution_strategy", "one_level_weighted"), ("floating_base", False),
+            ("solver", "daqp"), ("resolution_strategy", "one_level_weighted"), ("floating_base", False),
             ("gravity_compensated_by_hardware", False))}
         cfg["tasks"] = nested_parameters(self, "tasks")
         self.floating = bool(cfg["floating_base"])
