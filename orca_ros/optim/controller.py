@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from typing import Callable
 
+import time
+
 import numpy as np
 
 from ..constraint.dynamics_equation_constraint import DynamicsEquationConstraint
@@ -16,6 +18,7 @@ from ..constraint.generic_constraint import GenericConstraint
 from ..task.generic_task import GenericTask
 from ..task.regularisation_task import RegularisationTask
 from ..utils.logger import get_logger
+from .cycle_plan import CyclePlan
 from .generalized import GeneralizedPriorities
 from .lower_level_problem import LowerLevelProblem
 from .problem_layout import ProblemLayout
@@ -53,6 +56,8 @@ class Controller:
         self._remove_gravity = False
         self._remove_coriolis = False
         self._update_cb: Callable[[float, float], None] | None = None
+        self._time_budget: float | None = None  # None: one control period (the dt of each update)
+        self._max_iterations: int | None = None  # None: each solver's default
         n = self.layout.ndof
         self._tau = np.zeros(n)
         self._tau_cmd = np.zeros(n)
@@ -189,6 +194,20 @@ class Controller:
     def remove_coriolis_torques_from_solution(self, do_remove: bool) -> None:
         self._remove_coriolis = bool(do_remove)
 
+    def set_solver_budget(self, time_budget: float | None = None, max_iterations: int | None = None) -> None:
+        """Bound every cycle's solves: ``time_budget`` seconds for the whole cycle (None: one control period,
+        the dt given to update) and at most ``max_iterations`` solver iterations per solve (None: the
+        solver's default). A problem the solvers cannot solve within the budget fails with its ReturnCode."""
+        if time_budget is not None and not (np.isfinite(time_budget) and time_budget > 0.0):
+            raise ValueError(f"controller '{self.name}': time budget must be > 0 s, got {time_budget}")
+        if max_iterations is not None and int(max_iterations) < 1:
+            raise ValueError(f"controller '{self.name}': max_iterations must be >= 1, got {max_iterations}")
+        self._time_budget = None if time_budget is None else float(time_budget)
+        self._max_iterations = None if max_iterations is None else int(max_iterations)
+
+    def get_solver_budget(self) -> tuple[float | None, int | None]:
+        return self._time_budget, self._max_iterations
+
     def set_update_callback(self, cb: Callable[[float, float], None]) -> None:
         """Called at the end of every update(t, dt)."""
         self._update_cb = cb
@@ -196,32 +215,27 @@ class Controller:
     on_update_callback = set_update_callback
 
     def _configure(self) -> None:
-        if self.resolution_strategy is ResolutionStrategy.ONE_LEVEL_WEIGHTED:
-            self._problems = [WeightedProblem(self.layout, self._tasks, self._constraints, self.solver, level=0)]
-            self._level_tasks = [self.get_tasks()]
-            self._references = [None]
-        else:  # levels in order, each weighted inside, each keeping (some of) the optimum of the levels above
-            user = self.get_tasks()
-            levels = sorted({t.level for t in user}) or [0]
-            generalized = self.resolution_strategy is ResolutionStrategy.GENERALIZED
-            reg = [self.global_regularisation]
-            self._level_tasks = [[t for t in user if t.level == lev] for lev in levels]
-            self._problems, self._references = [], []
-            for i, lev in enumerate(levels):
-                own = self._level_tasks[i]
-                above = [t for t in user if t.level < lev]
-                if i == 0:
-                    self._problems.append(WeightedProblem(self.layout, reg + own, self._constraints, self.solver,
-                                                          level=lev))
-                    self._references.append(None)
-                    continue
-                # GENERALIZED: the costs of the levels above stay in the level (constant when locked)
-                cost = reg + above + own if generalized else reg + own
-                self._problems.append(LowerLevelProblem(self.layout, cost, self._constraints, self.solver,
-                                                        level=lev, locked_tasks=above))
-                self._references.append(
-                    WeightedProblem(self.layout, reg + above + own, self._constraints, self.solver, level=lev)
-                    if generalized else None)
+        """Compile the stack: one CyclePlan (stacked rows of every object) and the problem of each level."""
+        user = self.get_tasks()
+        one_level = self.resolution_strategy is ResolutionStrategy.ONE_LEVEL_WEIGHTED
+        levels = [0] if one_level else (sorted({t.level for t in user}) or [0])
+        self._level_tasks = [user] if one_level else [[t for t in user if t.level == lev] for lev in levels]
+        plan = self._plan = CyclePlan(self.layout, self._level_tasks, self.global_regularisation,
+                                      self._constraints)
+        generalized = self.resolution_strategy is ResolutionStrategy.GENERALIZED
+        self._problems, self._references = [], []
+        for i, lev in enumerate(levels):
+            if i == 0:
+                self._problems.append(WeightedProblem(plan, plan.level_rows[0], self.solver, level=lev))
+                self._references.append(None)
+                continue
+            # levels in order, each weighted inside, each keeping (some of) the optimum of the levels above;
+            # GENERALIZED: the costs of the levels above stay in the level (constant when locked)
+            above = [t for t in user if t.level < lev]
+            cost = plan.prefix_rows[i] if generalized else plan.level_rows[i]
+            self._problems.append(LowerLevelProblem(plan, cost, self.solver, level=lev, locked_tasks=above))
+            self._references.append(WeightedProblem(plan, plan.prefix_rows[i], self.solver, level=lev)
+                                    if generalized else None)
         # objects without rows for this robot have nothing to compute
         self._updated = [o for o in self._tasks + self._constraints
                          if o.rows() > 0 or getattr(o, "is_contact", False)]  # contacts: ramps
@@ -252,12 +266,15 @@ class Controller:
     def update(self, current_time: float, dt: float) -> bool:
         """Recompute everything for the robot's current state and solve; True when a solution was found."""
         self._solution_found = False
-        if self._dirty:
+        deadline = time.perf_counter() + (self._time_budget if self._time_budget is not None else dt)
+        if self._dirty:  # a configuration cycle: solver workspaces are set up, its solves are not time-bounded
             self._configure()
+            deadline = None
         self.layout.update()
         for obj in self._updated:
             obj.update(current_time, dt)
-        problem, code = self._solve_levels()
+        self._plan.update()
+        problem, code = self._solve_levels(deadline)
         self._return_code = code
         if code is ReturnCode.SUCCESS:
             x = problem.x
@@ -276,7 +293,7 @@ class Controller:
             self._update_cb(current_time, dt)
         return self._solution_found
 
-    def _solve_levels(self):
+    def _solve_levels(self, deadline: float | None):
         """Solve the level(s) in priority order; returns the problem holding the final solution and its code."""
         problems = self._problems
         x_above = None
@@ -289,9 +306,11 @@ class Controller:
                     continue  # nothing to optimise here: the solution above stands
                 band = None
                 if self._references[i] is not None:
+                    self._references[i].set_budget(deadline, self._max_iterations)
                     band = self.priorities.bands(problem, own, self._references[i], x_above)
                 problem.lock(x_above, band)
             problem.build()
+            problem.set_budget(deadline, self._max_iterations)
             code = problem.solve()
             if code is not ReturnCode.SUCCESS:
                 if i == 0:

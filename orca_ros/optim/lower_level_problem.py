@@ -26,9 +26,9 @@ _RANK_TOL = 1e-9  # singular values below this (relative to the largest, at leas
 
 
 class LowerLevelProblem(WeightedProblem):
-    def __init__(self, layout, tasks, constraints, solver, level: int, locked_tasks):
-        super().__init__(layout, tasks, constraints, solver, level=level, locked_tasks=locked_tasks)
-        nx = layout.nx
+    def __init__(self, plan, cost_rows: slice, solver, level: int, locked_tasks):
+        super().__init__(plan, cost_rows, solver, level=level, locked_tasks=locked_tasks)
+        nx = plan.layout.nx
         n_lock = self.n_eq - self.n_eq_constraints
         self.x_ref = np.zeros(nx)
         self.band: np.ndarray | None = None  # None: strict locks
@@ -51,6 +51,9 @@ class LowerLevelProblem(WeightedProblem):
         self._uboxb = np.zeros(nx)
         self.banded_backend = None
         self.null_space_dimension = nx
+
+    def backends(self):
+        return [self.strict_backend, self.banded_backend]
 
     def _make_backend(self):
         return None  # the level's own back-ends are made in __init__ (strict / banded forms)
@@ -137,6 +140,8 @@ class LowerLevelProblem(WeightedProblem):
         nx, n_in, ne = self.layout.nx, self.n_in, self.n_eq_constraints
         if self.banded_backend is None:
             self.banded_backend = make_backend(self.solver_type, nx, ne, self._Cb.shape[0])
+            self.banded_backend.deadline = self.strict_backend.deadline
+            self.banded_backend.max_iterations = self.strict_backend.max_iterations
         self._Ab[:] = self.A[:ne]  # x_ref satisfies the equalities: keep them as they are (A z = 0)
         g = self.H @ self.x_ref + self.g
         if n_in:

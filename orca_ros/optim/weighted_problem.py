@@ -5,7 +5,8 @@ diag(s) E x = diag(s) E x*, with x* the solution of the level just above (see :m
 which solves such a level relative to x*; here the rows only describe the problem, e.g. for a KKT solve).
 
 Sizes, row offsets and the solver's sparsity pattern are fixed when the problem is created (at
-configuration time); :meth:`build` only writes values into preallocated arrays.
+configuration time), on the rows of the controller's :class:`~orca_ros.optim.cycle_plan.CyclePlan`;
+:meth:`build` only forms the Hessian and gradient of this level from them.
 """
 from __future__ import annotations
 
@@ -18,56 +19,54 @@ _LOG = get_logger("optim")
 
 
 class WeightedProblem:
-    def __init__(self, layout, tasks, constraints, solver, level: int = 0, locked_tasks=()):
-        self.layout = layout
+    def __init__(self, plan, cost_rows: slice, solver, level: int = 0, locked_tasks=()):
+        """A level whose cost is the plan's task rows ``cost_rows`` plus the global regularisation, under every
+        constraint of the plan; ``locked_tasks``: tasks of the levels above kept at their value (lower levels)."""
+        self.plan = plan
+        self.layout = layout = plan.layout
         self.level = level
-        self.tasks = list(tasks)
         self.locked = list(locked_tasks)
         self.solver_type = solver
         nx = layout.nx
-        # contacts own wrench variables, bounded through the variable bounds (zero while switched off)
-        self.contacts = [c for c in constraints if getattr(c, "is_contact", False)]
-        # constraints without rows for this robot (e.g. the dynamics' floating-base rows on a fixed base)
-        # cost nothing at run time
-        constraints = [c for c in constraints if c.rows() > 0]
-        self.eq = [c for c in constraints if c.kind == "equality"]
-        self.ineq = [c for c in constraints if c.kind == "inequality"]
-        self.soft_box = [c for c in constraints if c.kind == "box" and not c.hard]
-        self.hard_box = [c for c in constraints if c.kind == "box" and c.hard]
-        self._eq_rows = self._offsets(self.eq)
-        self._in_rows = self._offsets(self.ineq)
-        self.n_eq_constraints = sum(c.rows() for c in self.eq)
-        self._lock_rows = [slice(self.n_eq_constraints + r.start, self.n_eq_constraints + r.stop)
-                           for r in self._offsets(self.locked)]
-        self.n_eq = self.n_eq_constraints + sum(t.rows() for t in self.locked)
-        self.n_in = sum(c.rows() for c in self.ineq)
+        self.n_eq_constraints = plan.n_eq
+        k = plan.n_eq
+        self._lock_rows = []
+        for t in self.locked:
+            self._lock_rows.append(slice(k, k + t.rows()))
+            k += t.rows()
+        self.n_eq = k
+        self.n_in = plan.n_in
         self.H = np.zeros((nx, nx))
         self.g = np.zeros(nx)
-        self.A = np.zeros((self.n_eq, nx))
-        self.b = np.zeros(self.n_eq)
-        self.C = np.zeros((self.n_in, nx))
-        self.l = np.full(self.n_in, -np.inf)
-        self.u = np.full(self.n_in, np.inf)
-        self.lbox = np.full(nx, -np.inf)
-        self.ubox = np.full(nx, np.inf)
-        self._lo = np.empty(layout.ndof)
-        self._hi = np.empty(layout.ndof)
+        self._diag = self.H.reshape(-1)[:: nx + 1]  # view on the diagonal
+        if self.locked:  # the constraint rows are copied in front of the lock rows at every build
+            self.A = np.zeros((self.n_eq, nx))
+            self.b = np.zeros(self.n_eq)
+        else:
+            self.A, self.b = plan.A, plan.b
+        self.C, self.l, self.u = plan.C, plan.l, plan.u
+        self.lbox, self.ubox = plan.lbox, plan.ubox
+        # views on this level's rows of the plan, and the product buffer W E
+        self._E, self._f = plan.E[cost_rows], plan.f[cost_rows]
+        self._w = plan.w[cost_rows][:, None]
+        self._WE = np.zeros(self._E.shape)
+        self._reg = plan.regularisation
         self.backend = self._make_backend()
         self.x = np.zeros(nx)
         self.return_code = ReturnCode.NOT_SOLVED
-        self.box_conflicts = 0
 
     def _make_backend(self):
         return make_backend(self.solver_type, self.layout.nx, self.n_eq, self.n_in)
 
-    @staticmethod
-    def _offsets(cons):
-        out, k = [], 0
-        for c in cons:
-            m = c.rows()
-            out.append(slice(k, k + m))
-            k += m
-        return out
+    def backends(self):
+        return [self.backend]
+
+    def set_budget(self, deadline: float | None, max_iterations: int | None = None) -> None:
+        """Deadline (time.perf_counter() instant) and iteration cap of this level's next solve."""
+        for b in self.backends():
+            if b is not None:
+                b.deadline = deadline
+                b.max_iterations = max_iterations or b.default_max_iterations
 
     def lock(self, x_above: np.ndarray) -> None:
         """Keep the residuals the higher levels reached at x_above (their tasks' E, f of this cycle)."""
@@ -81,72 +80,25 @@ class WeightedProblem:
 
     # -------------------------------------------------------------- build
     def build(self) -> None:
+        """H = E^T W E + w_r I, g = -E^T W f - w_r f_r over this level's stacked rows (W: the row weights)."""
         H, g = self.H, self.g
-        H.fill(0.0)
-        g.fill(0.0)
-        diag = H.reshape(-1)[:: H.shape[0] + 1]  # view on the diagonal
-        for t in self.tasks:
-            w = t.get_effective_weight()
-            if w <= 0.0:
-                continue
-            if t.identity_E:  # E = I: no product needed
-                ws = w * t.selection
-                diag += ws
-                g -= ws * t.f
-                continue
-            Ews = t.E.T * (w * t.selection)
-            H += Ews @ t.E
-            g -= Ews @ t.f
-        for c, rows in zip(self.eq, self._eq_rows):
-            if c.is_computing():
-                self.A[rows] = c.C
-                self.b[rows] = c.lb
-            else:
-                self.A[rows] = 0.0
-                self.b[rows] = 0.0
-        for c, rows in zip(self.ineq, self._in_rows):
-            if c.is_computing():
-                self.C[rows] = c.C
-                self.l[rows] = c.lb
-                self.u[rows] = c.ub
-            else:
-                self.l[rows] = -np.inf
-                self.u[rows] = np.inf
-        self._build_box()
-        for c in self.contacts:
-            ws = c.wrench_slice()
-            if c.is_computing():
-                self.lbox[ws] = c.wrench_lower
-                self.ubox[ws] = c.wrench_upper
-            else:
-                self.lbox[ws] = 0.0
-                self.ubox[ws] = 0.0
-
-    def _build_box(self) -> None:
-        if not self.soft_box and not self.hard_box:
-            return
-        lo, hi = self._lo, self._hi
-        lo.fill(-np.inf)
-        hi.fill(np.inf)
-        for c in self.soft_box:
-            if c.is_computing():
-                np.maximum(lo, c.lb, out=lo)
-                np.minimum(hi, c.ub, out=hi)
-        bad = lo > hi
-        if bad.any():
-            # position and velocity predictions disagree (e.g. fast motion near a limit): keep a finite,
-            # feasible compromise rather than an empty set
-            mid = 0.5 * (lo[bad] + hi[bad])
-            lo[bad] = mid
-            hi[bad] = mid
-            self.box_conflicts += 1
-        for c in self.hard_box:
-            if c.is_computing():
-                np.clip(lo, c.lb, c.ub, out=lo)
-                np.clip(hi, c.lb, c.ub, out=hi)
-        js = self.layout.joint_acc
-        self.lbox[js] = lo
-        self.ubox[js] = hi
+        if self._E.shape[0]:
+            np.multiply(self._E, self._w, out=self._WE)
+            np.dot(self._WE.T, self._E, out=H)
+            np.dot(self._WE.T, self._f, out=g)
+            np.negative(g, out=g)
+        else:
+            H.fill(0.0)
+            g.fill(0.0)
+        reg = self._reg
+        wr = reg.get_effective_weight()
+        if wr > 0.0:
+            self._diag += wr
+            g -= wr * reg.f
+        if self.locked:
+            nc = self.n_eq_constraints
+            self.A[:nc] = self.plan.A
+            self.b[:nc] = self.plan.b
 
     # -------------------------------------------------------------- solve
     def solve(self) -> ReturnCode:

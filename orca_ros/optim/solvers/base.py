@@ -3,9 +3,13 @@
 Problem form (sizes fixed at setup, values change every cycle):
     min 1/2 x^T H x + g^T x   s.t.   A x = b,   l <= C x <= u,   lbox <= x <= ubox
 
-Budget: every solve is bounded. ``max_iterations`` caps the solver's iterations and ``deadline`` (a
-``time.perf_counter()`` instant, or None) the wall time; the controller sets the deadline from the control
-period before each cycle. A solve that fails after a warm start is retried cold only while time is left.
+Budget: every solve is bounded by an *iteration cap*. The controller sets ``deadline`` (a
+``time.perf_counter()`` instant, from the control period) before each solve; the back-end turns the time left
+into iterations with its measured cost per iteration (a running estimate that preemption spikes barely move),
+never fewer than ``min_iterations`` (a warm-started feasible cycle needs 1-5: being late alone never fails a
+cycle, and the outcome of a solve does not depend on the machine's load) and never more than
+``max_iterations``. A solve that fails after a warm start is retried cold with what is left of the cap, unless
+the first attempt used it all.
 """
 from __future__ import annotations
 
@@ -45,19 +49,30 @@ class QPBackend:
     name = "base"
     default_max_iterations = 1000
 
+    min_iterations = 10
+
     def __init__(self, nx: int, n_eq: int, n_in: int):
         self.nx, self.n_eq, self.n_in = nx, n_eq, n_in
         self.x = np.zeros(nx)
         self.iterations = 0
         self.max_iterations = self.default_max_iterations
         self.deadline: float | None = None
+        self.seconds_per_iteration = 0.0
 
-    def remaining(self) -> float:
-        """Seconds left before the deadline (inf without one)."""
-        return np.inf if self.deadline is None else self.deadline - time.perf_counter()
+    def iteration_cap(self) -> int:
+        """Iterations allowed to the next solve (see the module's docstring)."""
+        cap = self.max_iterations
+        if self.deadline is not None and self.seconds_per_iteration > 0.0:
+            fit = int((self.deadline - time.perf_counter()) / self.seconds_per_iteration)
+            cap = min(cap, max(self.min_iterations, fit))
+        return cap
 
-    def budget_left(self) -> bool:
-        return self.deadline is None or time.perf_counter() < self.deadline
+    def record(self, seconds: float, iterations: int) -> None:
+        """Update the cost-per-iteration estimate with one solve (a sample far above it, e.g. a preempted
+        solve, moves it by at most 10 %)."""
+        per = seconds / max(int(iterations), 1)
+        est = self.seconds_per_iteration
+        self.seconds_per_iteration = per if est == 0.0 else 0.95 * est + 0.05 * min(per, 3.0 * est)
 
     def solve(self, H, g, A, b, C, l, u, lbox, ubox) -> ReturnCode:
         raise NotImplementedError

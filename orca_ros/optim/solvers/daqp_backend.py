@@ -11,6 +11,8 @@ l <= C x <= u. The active set of the last solve is kept by the workspace: the ne
 """
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from .base import QPBackend, ReturnCode
@@ -23,7 +25,7 @@ except ImportError:  # pragma: no cover - exercised only where daqp is missing
 _INF = 1e30  # DAQP's infinity
 _EQUALITY = 5
 # DAQP's exit flags (1 optimal, 2 optimal with soft constraints, -1 infeasible, -2 cycling, -3 unbounded,
-# -4 iteration limit, -5 non-convex, -6 over-determined initial active set); others: the time limit
+# -4 iteration limit, -5 non-convex, -6 over-determined initial active set)
 _FLAGS = {1: ReturnCode.SUCCESS, 2: ReturnCode.SUCCESS, -1: ReturnCode.PRIMAL_INFEASIBLE,
           -3: ReturnCode.DUAL_INFEASIBLE, -4: ReturnCode.MAX_ITERATIONS, -5: ReturnCode.SOLVER_ERROR}
 
@@ -46,9 +48,6 @@ class DAQPBackend(QPBackend):
     def reset(self) -> None:
         self._model = None
 
-    def _settings(self) -> dict:
-        return {"iter_limit": int(self.max_iterations), "time_limit": max(self.remaining(), 1e-6)
-                if self.deadline is not None else 0.0}
 
     def solve(self, H, g, A, b, C, l, u, lbox, ubox) -> ReturnCode:
         n, ne = self.nx, self.n_eq
@@ -66,28 +65,29 @@ class DAQPBackend(QPBackend):
         np.clip(bu, -_INF, _INF, out=bu)
         np.clip(bl, -_INF, _INF, out=bl)
         warm = self._model is not None
-        if warm and self.deadline is not None:
-            self._model.settings = self._settings()
-        code = self._solve_once(H, g)
-        if code is not ReturnCode.SUCCESS and warm and code is not ReturnCode.TIME_LIMIT and self.budget_left():
-            code = self._solve_once(H, g)  # once more from an empty active set
+        cap = self.iteration_cap()
+        code = self._solve_once(H, g, cap)
+        if code is not ReturnCode.SUCCESS and warm and self.iterations < cap:
+            code = self._solve_once(H, g, cap - self.iterations)  # once more from an empty active set
         return code
 
-    def _solve_once(self, H, g) -> ReturnCode:
+    def _solve_once(self, H, g, cap: int) -> ReturnCode:
         try:
             if self._model is None:
                 model = _daqp.Model()
                 model.setup(H, g, self._M, self._bu, self._bl, self._sense)
                 self._model = model
-                model.settings = self._settings()
             else:
                 self._model.update(H=H, f=g, A=self._M, bupper=self._bu, blower=self._bl)
+            self._model.settings = {"iter_limit": int(cap)}
+            t0 = time.perf_counter()
             x, _, flag, info = self._model.solve()
         except Exception:  # noqa: BLE001 - DAQP raises on inconsistent data: the caller reports it
             self._model = None
             return ReturnCode.SOLVER_ERROR
         self.iterations = int(info["iterations"])
-        code = _FLAGS.get(int(flag), ReturnCode.NOT_SOLVED if flag in (-2, -6) else ReturnCode.TIME_LIMIT)
+        self.record(time.perf_counter() - t0, self.iterations)
+        code = _FLAGS.get(int(flag), ReturnCode.NOT_SOLVED)
         if code is ReturnCode.SUCCESS:
             self.x = x
         else:

@@ -1,6 +1,8 @@
 """Dense ProxQP back-end (proxsuite) with native box constraints and warm starts."""
 from __future__ import annotations
 
+import time
+
 import proxsuite
 
 from .base import QPBackend, ReturnCode
@@ -12,12 +14,10 @@ _STATUS = proxsuite.proxqp.QPSolverOutput
 class ProxQPBackend(QPBackend):
     name = "proxqp"
 
-    def __init__(self, nx: int, n_eq: int, n_in: int, eps_abs: float = 1e-9, max_iter: int = 1000,
-                 box: bool = True):
+    def __init__(self, nx: int, n_eq: int, n_in: int, eps_abs: float = 1e-9, box: bool = True):
         super().__init__(nx, n_eq, n_in)
         self.box = box  # without: lbox/ubox are ignored (infinite box rows mislead ProxQP's infeasibility test)
         self.eps_abs = eps_abs
-        self.max_iter = max_iter
         self._make()
 
     def _make(self) -> None:
@@ -25,7 +25,7 @@ class ProxQPBackend(QPBackend):
         st = qp.settings
         st.eps_abs = self.eps_abs
         st.eps_rel = 0.0
-        st.max_iter = self.max_iter
+        st.max_iter = self.max_iterations
         # the default infeasibility thresholds (1e-4) declare feasible control QPs with active torque limits
         # infeasible within ~10 iterations (measured); true infeasibility is still detected at these
         st.eps_primal_inf = 1e-10
@@ -46,21 +46,24 @@ class ProxQPBackend(QPBackend):
         if not self.box:
             lbox = ubox = None
         warm = self._initialized
-        code = self._solve_once(H, g, A, b, C, l, u, lbox, ubox)
-        if code is not ReturnCode.SUCCESS and warm:
+        cap = self.iteration_cap()
+        code = self._solve_once(H, g, A, b, C, l, u, lbox, ubox, cap)
+        if code is not ReturnCode.SUCCESS and warm and self.iterations < cap:
             # a warm start from a different problem (limits or targets that moved) can make ProxQP declare a
             # feasible problem infeasible within a few iterations (measured): retry once from a cold start
-            code = self._solve_once(H, g, A, b, C, l, u, lbox, ubox)
+            code = self._solve_once(H, g, A, b, C, l, u, lbox, ubox, cap - self.iterations)
         return code
 
-    def _solve_once(self, H, g, A, b, C, l, u, lbox, ubox) -> ReturnCode:
+    def _solve_once(self, H, g, A, b, C, l, u, lbox, ubox, cap: int) -> ReturnCode:
         qp = self._qp
+        qp.settings.max_iter = int(cap)
         try:
             if not self._initialized:
                 if self.box:
                     qp.init(H, g, A, b, C, l, u, lbox, ubox)
                 else:
                     qp.init(H, g, A, b, C, l, u)
+                t0 = time.perf_counter()
                 qp.solve()
                 # warm starting needs a previous result: switching it on before the first solve crashes
                 qp.settings.initial_guess = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
@@ -70,12 +73,14 @@ class ProxQPBackend(QPBackend):
                     qp.update(H, g, A, b, C, l, u, lbox, ubox)
                 else:
                     qp.update(H, g, A, b, C, l, u)
+                t0 = time.perf_counter()
                 qp.solve()
         except Exception:  # proxsuite raises on inconsistent data; caller reports
             self._make()
             return ReturnCode.SOLVER_ERROR
         res = qp.results
         self.iterations = res.info.iter
+        self.record(time.perf_counter() - t0, self.iterations)
         status = res.info.status
         if status == _STATUS.PROXQP_SOLVED:
             self.x = res.x

@@ -1,0 +1,146 @@
+"""The compiled control cycle: every task's and constraint's rows stacked once, at configuration.
+
+When the controller's structure changes (a task or constraint added or removed, a level changed, contacts
+re-laid out), :class:`CyclePlan` allocates the stacked arrays of the whole problem and hands each object *views*
+on its own rows:
+
+* task rows ``E`` (rows x nx), ``f``, one weight per row ``w`` (weight x ramp x selection), ordered level by
+  level so that the rows of a level, and of every level down to it, are contiguous slices;
+* constraint rows: equalities ``A x = b``, inequalities ``l <= C x <= u``;
+* variable bounds ``lbox <= x <= ubox``, merged once per cycle from the joint box constraints and the contacts.
+
+Every cycle each object writes its values in place (no allocation); :meth:`update` refreshes the row weights and
+the variable bounds, and relaxes the rows of constraints that just switched off; each priority level's problem
+then forms its Hessian and gradient from its slice with two BLAS calls (see ``WeightedProblem.build``). The
+constraints are filled once per cycle and shared by every level.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+
+def _stack(objects, width: int, rows_of):
+    """(offsets, total) of objects stacked by their number of rows."""
+    out, k = [], 0
+    for o in objects:
+        m = rows_of(o)
+        out.append(slice(k, k + m))
+        k += m
+    return out, k
+
+
+class CyclePlan:
+    def __init__(self, layout, levels, regularisation, constraints):
+        """``levels``: the user tasks of each priority level, highest first (one entry for a single weighted
+        level); ``regularisation``: the global regularisation task (identity rows, kept as a diagonal)."""
+        self.layout = layout
+        nx = layout.nx
+        self.regularisation = regularisation
+        tasks = [t for lev in levels for t in lev]
+        self.tasks = tasks
+        self.task_rows, n = _stack(tasks, nx, lambda t: t.rows())
+        self.E = np.zeros((n, nx))
+        self.f = np.zeros(n)
+        self.w = np.zeros(n)
+        for t, rows in zip(tasks, self.task_rows):
+            self.E[rows] = t.E
+            self.f[rows] = t.f
+            t.E, t.f = self.E[rows], self.f[rows]
+        # rows of each level, and of each level together with every level above it
+        self.level_rows, self.prefix_rows, k = [], [], 0
+        for lev in levels:
+            m = sum(t.rows() for t in lev)
+            self.level_rows.append(slice(k, k + m))
+            k += m
+            self.prefix_rows.append(slice(0, k))
+        # constraints: objects without rows for this robot cost nothing at run time
+        with_rows = [c for c in constraints if c.rows() > 0]
+        self.eq = [c for c in with_rows if c.kind == "equality"]
+        self.ineq = [c for c in with_rows if c.kind == "inequality"]
+        self.soft_box = [c for c in with_rows if c.kind == "box" and not c.hard]
+        self.hard_box = [c for c in with_rows if c.kind == "box" and c.hard]
+        self.contacts = [c for c in constraints if getattr(c, "is_contact", False)]
+        eq_rows, self.n_eq = _stack(self.eq, nx, lambda c: c.rows())
+        in_rows, self.n_in = _stack(self.ineq, nx, lambda c: c.rows())
+        self.A = np.zeros((self.n_eq, nx))
+        self.b = np.zeros(self.n_eq)
+        self.C = np.zeros((self.n_in, nx))
+        self.l = np.full(self.n_in, -np.inf)
+        self.u = np.full(self.n_in, np.inf)
+        for c, rows in zip(self.eq, eq_rows):
+            self.A[rows] = c.C
+            self.b[rows] = c.lb
+            c.C, c.lb, c.ub = self.A[rows], self.b[rows], self.b[rows]
+        for c, rows in zip(self.ineq, in_rows):
+            self.C[rows] = c.C
+            self.l[rows] = c.lb
+            self.u[rows] = c.ub
+            c.C, c.lb, c.ub = self.C[rows], self.l[rows], self.u[rows]
+        self._eq_rows, self._in_rows = eq_rows, in_rows
+        self._relaxed = {id(c): False for c in self.eq + self.ineq}
+        self.lbox = np.full(nx, -np.inf)
+        self.ubox = np.full(nx, np.inf)
+        self._lo = np.empty(layout.ndof)
+        self._hi = np.empty(layout.ndof)
+        self.box_conflicts = 0
+
+    # -------------------------------------------------------------- per cycle
+    def update(self) -> None:
+        """Row weights, relaxation of switched-off constraints, variable bounds (after the objects' updates)."""
+        w = self.w
+        for t, rows in zip(self.tasks, self.task_rows):
+            ew = t.get_effective_weight()
+            if ew > 0.0:
+                np.multiply(t.selection, ew, out=w[rows])
+            else:
+                w[rows] = 0.0
+        relaxed = self._relaxed
+        for c, rows in zip(self.eq, self._eq_rows):
+            if c.is_computing():
+                relaxed[id(c)] = False
+            elif not relaxed[id(c)]:
+                self.A[rows] = 0.0
+                self.b[rows] = 0.0
+                relaxed[id(c)] = True
+        for c, rows in zip(self.ineq, self._in_rows):
+            if c.is_computing():
+                relaxed[id(c)] = False
+            elif not relaxed[id(c)]:
+                self.l[rows] = -np.inf
+                self.u[rows] = np.inf
+                relaxed[id(c)] = True
+        self._update_box()
+
+    def _update_box(self) -> None:
+        for c in self.contacts:
+            ws = c.wrench_slice()
+            if c.is_computing():
+                self.lbox[ws] = c.wrench_lower
+                self.ubox[ws] = c.wrench_upper
+            else:
+                self.lbox[ws] = 0.0
+                self.ubox[ws] = 0.0
+        if not self.soft_box and not self.hard_box:
+            return
+        lo, hi = self._lo, self._hi
+        lo.fill(-np.inf)
+        hi.fill(np.inf)
+        for c in self.soft_box:
+            if c.is_computing():
+                np.maximum(lo, c.lb, out=lo)
+                np.minimum(hi, c.ub, out=hi)
+        bad = lo > hi
+        if bad.any():
+            # position and velocity predictions disagree (e.g. fast motion near a limit): keep a finite,
+            # feasible compromise rather than an empty set
+            mid = 0.5 * (lo[bad] + hi[bad])
+            lo[bad] = mid
+            hi[bad] = mid
+            self.box_conflicts += 1
+        for c in self.hard_box:
+            if c.is_computing():
+                np.clip(lo, c.lb, c.ub, out=lo)
+                np.clip(hi, c.lb, c.ub, out=hi)
+        js = self.layout.joint_acc
+        self.lbox[js] = lo
+        self.ubox[js] = hi
