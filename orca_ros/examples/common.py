@@ -21,11 +21,13 @@ from .. import (
 
 
 def parse_args(description: str, argv=None, extra=None):
-    """``example [urdf] [-l level] [--solver osqp|proxqp] + extra options``."""
+    """``example [urdf] [-l level] [--solver daqp|proxqp|osqp] [--time-budget S] + extra options``."""
     rest = Logger.parse_argv(argv)
     parser = argparse.ArgumentParser(description=description)
     parser.add_argument("urdf", nargs="?", default=None, help="robot URDF (default: the shipped lwr.urdf)")
     parser.add_argument("--solver", default="daqp", choices=[s.value for s in QPSolver])
+    parser.add_argument("--time-budget", type=float, default=None,
+                        help="seconds each control cycle may spend solving (default: one control period)")
     if extra is not None:
         extra(parser)
     args = parser.parse_args(rest)

@@ -41,9 +41,10 @@ def reachable_target(robot, target=REFERENCE_TARGET, fraction: float = 0.8,
 
 
 def run(urdf: str, solver: str = "daqp", duration: float = 10.0, dt: float = 0.001,
-        remove_gravity: bool = False):
+        remove_gravity: bool = False, time_budget: float | None = None):
     robot, state = make_robot(urdf)
     controller = make_controller(robot, solver)
+    controller.set_solver_budget(time_budget)
     target = make_transform(reachable_target(robot), np.eye(3))
     servo = make_cartesian_servo("link_7", target)
     controller.add_task(CartesianTask, "CartTask_EE").set_servo_controller(servo)
@@ -95,7 +96,7 @@ def run(urdf: str, solver: str = "daqp", duration: float = 10.0, dt: float = 0.0
 
 def main(argv=None) -> int:
     args = parse_args(__doc__, argv, lambda p: p.add_argument("--duration", type=float, default=10.0))
-    res = run(args.urdf, args.solver, duration=args.duration)
+    res = run(args.urdf, args.solver, duration=args.duration, time_budget=args.time_budget)
     print(f"target {np.round(res['target'][:3, 3], 4)}; final link_7 position {np.round(res['final_pose'][:3, 3], 5)}")
     print(f"final position error {res['final_position_error'] * 1e3:.4f} mm, "
           f"orientation error {res['final_orientation_error']:.2e} rad")

@@ -225,16 +225,22 @@ class Controller:
         generalized = self.resolution_strategy is ResolutionStrategy.GENERALIZED
         self._problems, self._references = [], []
         for i, lev in enumerate(levels):
+            own_diag = plan.diagonal[i]
+            above_diag = [t for d in plan.diagonal[:i] for t in d]
             if i == 0:
-                self._problems.append(WeightedProblem(plan, plan.level_rows[0], self.solver, level=lev))
+                self._problems.append(WeightedProblem(plan, plan.level_rows[0], self.solver, level=lev,
+                                                      diagonal_tasks=own_diag))
                 self._references.append(None)
                 continue
             # levels in order, each weighted inside, each keeping (some of) the optimum of the levels above;
             # GENERALIZED: the costs of the levels above stay in the level (constant when locked)
             above = [t for t in user if t.level < lev]
             cost = plan.prefix_rows[i] if generalized else plan.level_rows[i]
-            self._problems.append(LowerLevelProblem(plan, cost, self.solver, level=lev, locked_tasks=above))
-            self._references.append(WeightedProblem(plan, plan.prefix_rows[i], self.solver, level=lev)
+            cost_diag = above_diag + own_diag if generalized else own_diag
+            self._problems.append(LowerLevelProblem(plan, cost, self.solver, level=lev, locked_tasks=above,
+                                                    diagonal_tasks=cost_diag))
+            self._references.append(WeightedProblem(plan, plan.prefix_rows[i], self.solver, level=lev,
+                                                    diagonal_tasks=above_diag + own_diag)
                                     if generalized else None)
         # objects without rows for this robot have nothing to compute
         self._updated = [o for o in self._tasks + self._constraints

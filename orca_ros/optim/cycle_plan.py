@@ -5,8 +5,12 @@ re-laid out), :class:`CyclePlan` allocates the stacked arrays of the whole probl
 on its own rows:
 
 * task rows ``E`` (rows x nx), ``f``, one weight per row ``w`` (weight x ramp x selection), ordered level by
-  level so that the rows of a level, and of every level down to it, are contiguous slices;
-* constraint rows: equalities ``A x = b``, inequalities ``l <= C x <= u``;
+  level so that the rows of a level, and of every level down to it, are contiguous slices. Tasks whose E
+  selects variables (posture, regularisation: ``diagonal_columns``) are not stacked: they add to the
+  Hessian's diagonal, from ``ws`` (weight x selection) and ``wsf`` (ws x f) refreshed here;
+* constraint rows in the layout of the default solver (DAQP): one matrix ``M = [A; C]`` and one bound vector
+  per side, ``lo = [lbox; b; l]`` and ``hi = [ubox; b; u]``, with ``A, C, b, l, u, lbox, ubox`` views on them
+  (the equalities' right-hand side is copied into ``hi`` once per cycle);
 * variable bounds ``lbox <= x <= ubox``, merged once per cycle from the joint box constraints and the contacts.
 
 Every cycle each object writes its values in place (no allocation); :meth:`update` refreshes the row weights and
@@ -36,7 +40,9 @@ class CyclePlan:
         self.layout = layout
         nx = layout.nx
         self.regularisation = regularisation
-        tasks = [t for lev in levels for t in lev]
+        dense = [[t for t in lev if t.diagonal_columns is None] for lev in levels]
+        self.diagonal = [[t for t in lev if t.diagonal_columns is not None] for lev in levels]
+        tasks = [t for lev in dense for t in lev]
         self.tasks = tasks
         self.task_rows, n = _stack(tasks, nx, lambda t: t.rows())
         self.E = np.zeros((n, nx))
@@ -46,9 +52,13 @@ class CyclePlan:
             self.E[rows] = t.E
             self.f[rows] = t.f
             t.E, t.f = self.E[rows], self.f[rows]
-        # rows of each level, and of each level together with every level above it
+        # diagonal tasks (every level's problem has the regularisation): per-task ws and wsf buffers
+        self.diagonal_tasks = [regularisation] + [t for lev in self.diagonal for t in lev]
+        self.ws = {id(t): np.zeros(t.rows()) for t in self.diagonal_tasks}
+        self.wsf = {id(t): np.zeros(t.rows()) for t in self.diagonal_tasks}
+        # dense rows of each level, and of each level together with every level above it
         self.level_rows, self.prefix_rows, k = [], [], 0
-        for lev in levels:
+        for lev in dense:
             m = sum(t.rows() for t in lev)
             self.level_rows.append(slice(k, k + m))
             k += m
@@ -62,11 +72,15 @@ class CyclePlan:
         self.contacts = [c for c in constraints if getattr(c, "is_contact", False)]
         eq_rows, self.n_eq = _stack(self.eq, nx, lambda c: c.rows())
         in_rows, self.n_in = _stack(self.ineq, nx, lambda c: c.rows())
-        self.A = np.zeros((self.n_eq, nx))
-        self.b = np.zeros(self.n_eq)
-        self.C = np.zeros((self.n_in, nx))
-        self.l = np.full(self.n_in, -np.inf)
-        self.u = np.full(self.n_in, np.inf)
+        ne, ni = self.n_eq, self.n_in
+        self.M = np.zeros((ne + ni, nx))
+        self.lo = np.full(nx + ne + ni, -np.inf)
+        self.hi = np.full(nx + ne + ni, np.inf)
+        self.A, self.C = self.M[:ne], self.M[ne:]
+        self.lbox, self.ubox = self.lo[:nx], self.hi[:nx]
+        self.b, self._b_hi = self.lo[nx:nx + ne], self.hi[nx:nx + ne]
+        self.b[:] = 0.0
+        self.l, self.u = self.lo[nx + ne:], self.hi[nx + ne:]
         for c, rows in zip(self.eq, eq_rows):
             self.A[rows] = c.C
             self.b[rows] = c.lb
@@ -78,8 +92,6 @@ class CyclePlan:
             c.C, c.lb, c.ub = self.C[rows], self.l[rows], self.u[rows]
         self._eq_rows, self._in_rows = eq_rows, in_rows
         self._relaxed = {id(c): False for c in self.eq + self.ineq}
-        self.lbox = np.full(nx, -np.inf)
-        self.ubox = np.full(nx, np.inf)
         self._lo = np.empty(layout.ndof)
         self._hi = np.empty(layout.ndof)
         self.box_conflicts = 0
@@ -94,6 +106,10 @@ class CyclePlan:
                 np.multiply(t.selection, ew, out=w[rows])
             else:
                 w[rows] = 0.0
+        for t in self.diagonal_tasks:
+            ws = self.ws[id(t)]
+            np.multiply(t.selection, t.get_effective_weight(), out=ws)
+            np.multiply(ws, t.f, out=self.wsf[id(t)])
         relaxed = self._relaxed
         for c, rows in zip(self.eq, self._eq_rows):
             if c.is_computing():
@@ -110,6 +126,8 @@ class CyclePlan:
                 self.u[rows] = np.inf
                 relaxed[id(c)] = True
         self._update_box()
+        if self.n_eq:
+            self._b_hi[:] = self.b
 
     def _update_box(self) -> None:
         for c in self.contacts:

@@ -17,6 +17,8 @@ With x_ref the solution of the level above, the level solves for the step z = x 
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .solvers import ReturnCode, make_backend
@@ -26,8 +28,9 @@ _RANK_TOL = 1e-9  # singular values below this (relative to the largest, at leas
 
 
 class LowerLevelProblem(WeightedProblem):
-    def __init__(self, plan, cost_rows: slice, solver, level: int, locked_tasks):
-        super().__init__(plan, cost_rows, solver, level=level, locked_tasks=locked_tasks)
+    def __init__(self, plan, cost_rows: slice, solver, level: int, locked_tasks, diagonal_tasks=()):
+        super().__init__(plan, cost_rows, solver, level=level, locked_tasks=locked_tasks,
+                         diagonal_tasks=diagonal_tasks)
         nx = plan.layout.nx
         n_lock = self.n_eq - self.n_eq_constraints
         self.x_ref = np.zeros(nx)
@@ -84,7 +87,7 @@ class LowerLevelProblem(WeightedProblem):
 
     # -------------------------------------------------------------- solve
     def solve(self) -> ReturnCode:
-        if not np.isfinite(self.H.sum() + self.g.sum()):
+        if not math.isfinite(self.H.sum() + self.g.sum()):
             self.return_code = ReturnCode.NON_FINITE_PROBLEM
             return self.return_code
         code, dx = self._solve_strict() if self.band is None else self._solve_banded()

@@ -10,6 +10,8 @@ configuration time), on the rows of the controller's :class:`~orca_ros.optim.cyc
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..optim.solvers import ReturnCode, make_backend
@@ -19,9 +21,10 @@ _LOG = get_logger("optim")
 
 
 class WeightedProblem:
-    def __init__(self, plan, cost_rows: slice, solver, level: int = 0, locked_tasks=()):
-        """A level whose cost is the plan's task rows ``cost_rows`` plus the global regularisation, under every
-        constraint of the plan; ``locked_tasks``: tasks of the levels above kept at their value (lower levels)."""
+    def __init__(self, plan, cost_rows: slice, solver, level: int = 0, locked_tasks=(), diagonal_tasks=()):
+        """A level whose cost is the plan's dense task rows ``cost_rows``, its ``diagonal_tasks`` and the global
+        regularisation, under every constraint of the plan; ``locked_tasks``: tasks of the levels above kept at
+        their value (lower levels)."""
         self.plan = plan
         self.layout = layout = plan.layout
         self.level = level
@@ -50,8 +53,10 @@ class WeightedProblem:
         self._E, self._f = plan.E[cost_rows], plan.f[cost_rows]
         self._w = plan.w[cost_rows][:, None]
         self._WE = np.zeros(self._E.shape)
-        self._reg = plan.regularisation
+        self._diagonal = [(t.diagonal_columns, plan.ws[id(t)], plan.wsf[id(t)])
+                          for t in [plan.regularisation] + list(diagonal_tasks)]
         self.backend = self._make_backend()
+        self._stacked = not self.locked and hasattr(self.backend, "solve_stacked")
         self.x = np.zeros(nx)
         self.return_code = ReturnCode.NOT_SOLVED
 
@@ -90,11 +95,10 @@ class WeightedProblem:
         else:
             H.fill(0.0)
             g.fill(0.0)
-        reg = self._reg
-        wr = reg.get_effective_weight()
-        if wr > 0.0:
-            self._diag += wr
-            g -= wr * reg.f
+        diag = self._diag
+        for cols, ws, wsf in self._diagonal:
+            diag[cols] += ws
+            g[cols] -= wsf
         if self.locked:
             nc = self.n_eq_constraints
             self.A[:nc] = self.plan.A
@@ -104,13 +108,17 @@ class WeightedProblem:
     def solve(self) -> ReturnCode:
         # states, targets, gains and limits are validated where they enter; the matrices built from them
         # are finite unless a task computed garbage, which shows in the cost
-        if not np.isfinite(self.H.sum() + self.g.sum()):
+        if not math.isfinite(self.H.sum() + self.g.sum()):
             self.return_code = ReturnCode.NON_FINITE_PROBLEM
             return self.return_code
-        code = self.backend.solve(self.H, self.g, self.A, self.b, self.C, self.l, self.u, self.lbox, self.ubox)
+        if self._stacked:  # the plan's arrays are already in the solver's layout
+            code = self.backend.solve_stacked(self.H, self.g, self.plan.M, self.plan.lo, self.plan.hi)
+        else:
+            code = self.backend.solve(self.H, self.g, self.A, self.b, self.C, self.l, self.u, self.lbox,
+                                      self.ubox)
         if code is ReturnCode.SUCCESS:
             x = self.backend.x
-            if not np.isfinite(x.sum()):
+            if not math.isfinite(x.sum()):
                 code = ReturnCode.NON_FINITE_SOLUTION
                 self.backend.reset()
             else:

@@ -7,7 +7,9 @@ from ..common.task_base import TaskBase
 
 
 class GenericTask(TaskBase):
-    identity_E = False  # E is the identity (the problem then skips the product E^T E)
+    #: E selects these variables (rows = identity columns): the problem adds the task to the Hessian's
+    #: diagonal instead of forming E^T E (None: a dense task)
+    diagonal_columns = None
 
     def __init__(self, name: str):
         super().__init__(name)

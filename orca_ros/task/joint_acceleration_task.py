@@ -33,6 +33,7 @@ class JointAccelerationTask(GenericTask):
     def resize(self, layout) -> None:
         super().resize(layout)
         self.E[:, layout.joint_acc] = np.eye(layout.ndof)
+        self.diagonal_columns = layout.joint_acc
 
     def pid(self) -> PIDController:
         return self._pid

@@ -12,7 +12,6 @@ from .generic_task import GenericTask
 
 
 class RegularisationTask(GenericTask):
-    identity_E = True
     def __init__(self, name: str = "GlobalRegularisation", weight: float = 1e-4, damping: float = 1.0):
         super().__init__(name)
         self.set_weight(weight)
@@ -29,6 +28,7 @@ class RegularisationTask(GenericTask):
     def resize(self, layout) -> None:
         super().resize(layout)
         self.E[:] = np.eye(layout.nx)
+        self.diagonal_columns = slice(0, layout.nx)
 
     def _update_affine_function(self, current_time: float, dt: float) -> None:
         lay = self.layout

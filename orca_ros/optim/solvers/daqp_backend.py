@@ -11,6 +11,7 @@ l <= C x <= u. The active set of the last solve is kept by the workspace: the ne
 """
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -22,7 +23,6 @@ try:  # an optional solver for the package (not packaged for apt): a clear error
 except ImportError:  # pragma: no cover - exercised only where daqp is missing
     _daqp = None
 
-_INF = 1e30  # DAQP's infinity
 _EQUALITY = 5
 # DAQP's exit flags (1 optimal, 2 optimal with soft constraints, -1 infeasible, -2 cycling, -3 unbounded,
 # -4 iteration limit, -5 non-convex, -6 over-determined initial active set)
@@ -62,24 +62,30 @@ class DAQPBackend(QPBackend):
             bl[n + ne:] = l
         bu[:n] = ubox
         bl[:n] = lbox
-        np.clip(bu, -_INF, _INF, out=bu)
-        np.clip(bl, -_INF, _INF, out=bl)
+        return self.solve_stacked(H, g, M, bl, bu)
+
+    def solve_stacked(self, H, g, M, lo, hi) -> ReturnCode:
+        """The problem already in DAQP's layout: M = [A; C], lo = [lbox; b; l], hi = [ubox; b; u] (infinite
+        entries are DAQP's 'no bound')."""
         warm = self._model is not None
         cap = self.iteration_cap()
-        code = self._solve_once(H, g, cap)
+        code = self._solve_once(H, g, M, lo, hi, cap)
         if code is not ReturnCode.SUCCESS and warm and self.iterations < cap:
-            code = self._solve_once(H, g, cap - self.iterations)  # once more from an empty active set
+            code = self._solve_once(H, g, M, lo, hi, cap - self.iterations)  # once more, empty active set
         return code
 
-    def _solve_once(self, H, g, cap: int) -> ReturnCode:
+    def _solve_once(self, H, g, M, lo, hi, cap: int) -> ReturnCode:
         try:
             if self._model is None:
                 model = _daqp.Model()
-                model.setup(H, g, self._M, self._bu, self._bl, self._sense)
+                model.setup(H, g, M, hi, lo, self._sense)
                 self._model = model
+                self._cap = None
             else:
-                self._model.update(H=H, f=g, A=self._M, bupper=self._bu, blower=self._bl)
-            self._model.settings = {"iter_limit": int(cap)}
+                self._model.update(H=H, f=g, A=M, bupper=hi, blower=lo)
+            if cap != self._cap:
+                self._model.settings = {"iter_limit": int(cap)}
+                self._cap = cap
             t0 = time.perf_counter()
             x, _, flag, info = self._model.solve()
         except Exception:  # noqa: BLE001 - DAQP raises on inconsistent data: the caller reports it
@@ -88,6 +94,9 @@ class DAQPBackend(QPBackend):
         self.iterations = int(info["iterations"])
         self.record(time.perf_counter() - t0, self.iterations)
         code = _FLAGS.get(int(flag), ReturnCode.NOT_SOLVED)
+        if code is ReturnCode.SUCCESS and not math.isfinite(x.sum()):
+            # a warm active set holding a row whose bound just became infinite (a constraint switched off)
+            code = ReturnCode.NON_FINITE_SOLUTION
         if code is ReturnCode.SUCCESS:
             self.x = x
         else:
