@@ -148,7 +148,11 @@ class TaskBase:
 
     def update(self, current_time: float, dt: float) -> None:
         """Advance the life cycle and recompute this object's contribution for the current robot state."""
-        if self.state in _INACTIVE:
+        st = self.state
+        if st is ActivationState.ACTIVATED and self._cb_begin is None and self._cb_end is None:
+            self._update(current_time, dt)  # the steady state: nothing to ramp, nobody to call
+            return
+        if st in _INACTIVE:
             return
         if self._cb_begin is not None:
             self._cb_begin(current_time, dt)

@@ -80,3 +80,17 @@ def make_transform(position=(0.0, 0.0, 0.0), rotation=None) -> np.ndarray:
 def is_rotation_matrix(R: np.ndarray, tol: float = 1e-6) -> bool:
     R = np.asarray(R, dtype=float)
     return R.shape == (3, 3) and np.allclose(R @ R.T, np.eye(3), atol=tol) and abs(np.linalg.det(R) - 1) < tol
+
+
+_I3 = np.eye(3)
+
+
+def is_rotation(R, tol: float = 1e-6) -> bool:
+    """True for a proper rotation matrix (orthonormal to ``tol``, determinant +1); cheap enough for every cycle."""
+    E = R @ R.T
+    E -= _I3
+    if not float(np.abs(E).max()) <= tol:  # also False for NaN
+        return False
+    # orthonormal: the determinant is +-1; +1 iff the third column is the cross product of the first two
+    return float(R[0, 0] * (R[1, 1] * R[2, 2] - R[2, 1] * R[1, 2]) - R[0, 1] * (R[1, 0] * R[2, 2] - R[2, 0] * R[1, 2])
+                 + R[0, 2] * (R[1, 0] * R[2, 1] - R[2, 0] * R[1, 1])) > 0.0

@@ -92,8 +92,8 @@ class CyclePlan:
             c.C, c.lb, c.ub = self.C[rows], self.l[rows], self.u[rows]
         self._eq_rows, self._in_rows = eq_rows, in_rows
         self._relaxed = {id(c): False for c in self.eq + self.ineq}
-        self._lo = np.empty(layout.ndof)
-        self._hi = np.empty(layout.ndof)
+        self._lbox_joints = self.lbox[layout.joint_acc]
+        self._ubox_joints = self.ubox[layout.joint_acc]
         self.box_conflicts = 0
 
     # -------------------------------------------------------------- per cycle
@@ -140,17 +140,24 @@ class CyclePlan:
                 self.ubox[ws] = 0.0
         if not self.soft_box and not self.hard_box:
             return
-        lo, hi = self._lo, self._hi
-        lo.fill(-np.inf)
-        hi.fill(np.inf)
+        lo, hi = self._lbox_joints, self._ubox_joints  # views: merged in place
+        first = True
         for c in self.soft_box:
             if c.is_computing():
-                np.maximum(lo, c.lb, out=lo)
-                np.minimum(hi, c.ub, out=hi)
-        bad = lo > hi
-        if bad.any():
+                if first:
+                    lo[:] = c.lb
+                    hi[:] = c.ub
+                    first = False
+                else:
+                    np.maximum(lo, c.lb, out=lo)
+                    np.minimum(hi, c.ub, out=hi)
+        if first:
+            lo.fill(-np.inf)
+            hi.fill(np.inf)
+        elif (lo > hi).any():
             # position and velocity predictions disagree (e.g. fast motion near a limit): keep a finite,
             # feasible compromise rather than an empty set
+            bad = lo > hi
             mid = 0.5 * (lo[bad] + hi[bad])
             lo[bad] = mid
             hi[bad] = mid
@@ -159,6 +166,3 @@ class CyclePlan:
             if c.is_computing():
                 np.clip(lo, c.lb, c.ub, out=lo)
                 np.clip(hi, c.lb, c.ub, out=hi)
-        js = self.layout.joint_acc
-        self.lbox[js] = lo
-        self.ubox[js] = hi

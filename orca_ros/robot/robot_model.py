@@ -13,12 +13,12 @@ Conventions
 """
 from __future__ import annotations
 
-import math
 import os
 
 import numpy as np
 import pinocchio as pin
 
+from ..math.rotations import is_rotation
 from ..utils.logger import get_logger
 from . import frame_kinematics as fk
 from .com_kinematics import ComKinematics
@@ -173,7 +173,7 @@ class RobotModel:
             T, q, twist, v, g = args
             T = self._checked(T, (4, 4), "world_H_base")
             twist = self._checked(twist, (6,), "base twist")
-            if not np.allclose(T[:3, :3] @ T[:3, :3].T, np.eye(3), atol=1e-6):
+            if not is_rotation(T[:3, :3]):
                 raise ValueError("world_H_base rotation block is not a rotation matrix")
             if self.floating_base:
                 self._world_H_base[:] = T
@@ -213,7 +213,7 @@ class RobotModel:
                 a = a.reshape(shape)
             else:
                 raise ValueError(f"{what}: expected shape {shape} for robot '{self.name}', got {a.shape}")
-        if not math.isfinite(float(a.reshape(-1) @ a.reshape(-1))):  # one BLAS call; NaN/inf propagate
+        if not np.isfinite(a).all():
             raise ValueError(f"{what}: contains NaN or infinite values: {a}")
         return a
 

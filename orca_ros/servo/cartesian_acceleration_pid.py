@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from ..math.rotations import is_rotation
 from .pid_controller import PIDController
 
 
@@ -52,7 +53,7 @@ class CartesianAccelerationPID:
         if T.shape != (4, 4) or not np.all(np.isfinite(T)):
             raise ValueError(f"desired pose must be a finite 4x4 matrix, got shape {T.shape}")
         R = T[:3, :3]
-        if not np.allclose(R @ R.T, np.eye(3), atol=1e-6) or np.linalg.det(R) < 0:
+        if not is_rotation(R):
             raise ValueError("desired pose: rotation block is not a rotation matrix")
         v = np.zeros(6) if velocity is None else np.asarray(velocity, dtype=float).reshape(-1)
         a = np.zeros(6) if acceleration is None else np.asarray(acceleration, dtype=float).reshape(-1)
