@@ -15,6 +15,7 @@ from .common import ActivationState, TaskBase
 from .constraint import (
     BilateralContact,
     Contact,
+    SurfaceContact,
     surface_contact,
     DynamicsEquationConstraint,
     GenericConstraint,
@@ -43,7 +44,7 @@ from .paths import default_urdf_path, share_path
 __version__ = "0.1.0"
 
 __all__ = [
-    "BilateralContact", "CoMTask", "Contact", "WrenchTask", "surface_contact",
+    "BilateralContact", "CoMTask", "Contact", "SurfaceContact", "WrenchTask", "surface_contact",
     "ActivationState", "CartesianAccelerationPID", "CartesianTask", "Controller", "DynamicsEquationConstraint",
     "GenericConstraint", "GenericTask", "JointAccelerationLimitConstraint", "JointAccelerationTask",
     "JointBoxConstraint", "JointPositionLimitConstraint", "JointTorqueLimitConstraint", "JointTorqueTask",

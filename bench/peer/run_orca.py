@@ -65,9 +65,8 @@ def build(sc, solver=None):
     if "soles" in sc:
         cp = sc["soles"]
         for f in cp["frames"]:
-            for ct in orca.surface_contact(f, f, S.sole_corners(sc), friction_coefficient=cp["mu"],
-                                           maximum_normal_force=cp["fmax"] / 4):
-                c.add_constraint(ct)
+            c.add_constraint(orca.SurfaceContact(f, f, S.sole_corners(sc), friction_coefficient=cp["mu"],
+                                                 maximum_normal_force=cp["fmax"]))
     lim = {"torque": orca.JointTorqueLimitConstraint, "position": orca.JointPositionLimitConstraint,
            "velocity": orca.JointVelocityLimitConstraint}
     for name in sc["limits"]:

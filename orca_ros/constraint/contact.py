@@ -89,17 +89,50 @@ class ContactBase(GenericConstraint):
         raise NotImplementedError
 
 
-class Contact(ContactBase):
+class NormalForceRamp:
+    """The normal force bound of a unilateral contact follows its activation ramp: switched on, from 0 up to
+    ``maximum_normal_force``; switched off, from the normal force it carried then down to 0 (the load moves to
+    the other contacts progressively before the contact is released)."""
+
+    maximum_normal_force = 1000.0
+    _release_force = None  # normal force when the deactivation started
+
+    def set_maximum_normal_force(self, f: float) -> None:
+        if not (np.isfinite(f) and f > 0):
+            raise ValueError(f"contact '{self.name}': maximum normal force must be > 0, got {f}")
+        self.maximum_normal_force = float(f)
+
+    def contact_normal_world(self) -> np.ndarray:
+        return self.normal
+
+    def deactivate(self) -> bool:
+        self._release_force = max(float(self.contact_normal_world() @ self.last_wrench[:3]), 0.0)
+        return super().deactivate()
+
+    def normal_force_bound(self) -> float:
+        """Upper bound on the normal force this cycle (follows the activation ramp)."""
+        if not self.is_computing():
+            return 0.0
+        rho = self.get_ramp_value()
+        if self._release_force is not None and self.state is ActivationState.DEACTIVATING:
+            return rho * self._release_force
+        return rho * self.maximum_normal_force
+
+    def settle_ramp(self) -> None:
+        """Forget the release force once the contact is fully on again."""
+        if self.state is ActivationState.ACTIVATED:
+            self._release_force = None
+
+
+class Contact(NormalForceRamp, ContactBase):
     def __init__(self, name: str, frame: str | None = None, offset=None):
         super().__init__(name)
         self.mu = 0.6
         self.margin = 0.0
         self.n_faces = 4
         self.normal = np.array([0.0, 0.0, 1.0])
-        self.maximum_normal_force = 1000.0
         self.minimum_normal_force = 0.0
         self.offset = None if offset is None else np.asarray(offset, dtype=float).reshape(3)
-        self._release_force = None  # normal force when the deactivation started
         self._faces = None
         self.existence = ContactExistenceCondition(f"{name}_existence", self)
         if frame is not None:
@@ -140,11 +173,6 @@ class Contact(ContactBase):
         R = np.asarray(world_R_cone, dtype=float).reshape(3, 3)
         self.set_contact_normal(R[:, 2])
 
-    def set_maximum_normal_force(self, f: float) -> None:
-        if not (np.isfinite(f) and f > 0):
-            raise ValueError(f"contact '{self.name}': maximum normal force must be > 0, got {f}")
-        self.maximum_normal_force = float(f)
-
     def set_minimum_normal_force(self, f: float) -> None:
         self.minimum_normal_force = max(0.0, float(f))
 
@@ -158,20 +186,6 @@ class Contact(ContactBase):
         d = np.cos(ang)[:, None] * t1 + np.sin(ang)[:, None] * t2
         self._faces = d - mu_eff * n  # rows: (d_k - mu_eff n) . f <= 0
         self.mu_effective = mu_eff
-
-    # -------------------------------------------------------------- activation
-    def deactivate(self) -> bool:
-        self._release_force = max(float(self.normal @ self.last_wrench[:3]), 0.0)
-        return super().deactivate()
-
-    def normal_force_bound(self) -> float:
-        """Upper bound on the normal force this cycle (follows the activation ramp)."""
-        if not self.is_computing():
-            return 0.0
-        rho = self.get_ramp_value()
-        if self._release_force is not None and self.state is ActivationState.DEACTIVATING:
-            return rho * self._release_force
-        return rho * self.maximum_normal_force
 
     # -------------------------------------------------------------- rows
     def rows(self) -> int:
@@ -207,8 +221,7 @@ class Contact(ContactBase):
         else:
             self.wrench_lower[:3], self.wrench_upper[:3] = 0.0, 0.0
         self.wrench_lower[3:], self.wrench_upper[3:] = 0.0, 0.0
-        if self.state is ActivationState.ACTIVATED:
-            self._release_force = None
+        self.settle_ramp()
 
 
 class ContactExistenceCondition(GenericConstraint):

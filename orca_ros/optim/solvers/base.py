@@ -5,7 +5,8 @@ Problem form (sizes fixed at setup, values change every cycle):
 
 Budget: every solve is bounded by an *iteration cap*. The controller sets ``deadline`` (a
 ``time.perf_counter()`` instant, from the control period) before each solve; the back-end turns the time left
-into iterations with its measured cost per iteration (a running estimate that preemption spikes barely move),
+into iterations with its measured solve-time model (fixed cost + cost per iteration, running estimates that
+preemption spikes barely move),
 never fewer than ``min_iterations`` (a warm-started feasible cycle needs 1-5: being late alone never fails a
 cycle, and the outcome of a solve does not depend on the machine's load) and never more than
 ``max_iterations``. A solve that fails after a warm start is retried cold with what is left of the cap, unless
@@ -17,6 +18,10 @@ import time
 from enum import Enum
 
 import numpy as np
+
+
+def _robust(estimate: float, sample: float) -> float:
+    return sample if estimate == 0.0 else 0.95 * estimate + 0.05 * min(sample, 3.0 * estimate)
 
 
 class QPSolver(Enum):
@@ -57,22 +62,30 @@ class QPBackend:
         self.iterations = 0
         self.max_iterations = self.default_max_iterations
         self.deadline: float | None = None
-        self.seconds_per_iteration = 0.0
+        self._fixed = 0.0  # seconds of a solve of one or two iterations
+        self._per = 0.0    # seconds per further iteration
 
     def iteration_cap(self) -> int:
         """Iterations allowed to the next solve (see the module's docstring)."""
         cap = self.max_iterations
-        if self.deadline is not None and self.seconds_per_iteration > 0.0:
-            fit = int((self.deadline - time.perf_counter()) / self.seconds_per_iteration)
-            cap = min(cap, max(self.min_iterations, fit))
+        if self.deadline is not None and self._fixed > 0.0:
+            left = self.deadline - time.perf_counter() - self._fixed
+            per = self._per if self._per > 0.0 else self._fixed
+            cap = min(cap, max(self.min_iterations, 1 + int(left / per)))
         return cap
 
     def record(self, seconds: float, iterations: int) -> None:
-        """Update the cost-per-iteration estimate with one solve (a sample far above it, e.g. a preempted
-        solve, moves it by at most 10 %)."""
-        per = seconds / max(int(iterations), 1)
-        est = self.seconds_per_iteration
-        self.seconds_per_iteration = per if est == 0.0 else 0.95 * est + 0.05 * min(per, 3.0 * est)
+        """Update the solve-time model  t = fixed + (iterations - 1) * per  with one solve (robust running
+        estimates: a sample far above them, e.g. a preempted solve, moves them little)."""
+        it = max(int(iterations), 1)
+        if it <= 2 or self._fixed == 0.0:
+            self._fixed = _robust(self._fixed, seconds / (1.0 if it <= 2 else it))
+        else:
+            self._per = _robust(self._per, max(seconds - self._fixed, 0.0) / (it - 1))
+
+    @property
+    def seconds_per_iteration(self) -> float:
+        return self._per if self._per > 0.0 else self._fixed
 
     def solve(self, H, g, A, b, C, l, u, lbox, ubox) -> ReturnCode:
         raise NotImplementedError
