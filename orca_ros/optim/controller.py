@@ -19,6 +19,7 @@ from ..task.generic_task import GenericTask
 from ..task.regularisation_task import RegularisationTask
 from ..utils.logger import get_logger
 from .cycle_plan import CyclePlan
+from .describe import describe_controller
 from .generalized import GeneralizedPriorities
 from .lower_level_problem import LowerLevelProblem
 from .problem_layout import ProblemLayout
@@ -384,30 +385,4 @@ class Controller:
         print(self.describe())
 
     def describe(self) -> str:
-        lay = self.layout
-        lines = [f"Controller '{self.name}' ({self.resolution_strategy.value}, solver {self.solver.value}); "
-                 f"robot '{self.robot.name}' {lay.ndof} dof, {'floating' if lay.nbase else 'fixed'} base, "
-                 f"QP variables {lay.nx}",
-                 f"  last return code: {self._return_code.value}"]
-        if self.resolution_strategy is ResolutionStrategy.ONE_LEVEL_WEIGHTED:
-            lines.append("  tasks (one weighted level):")
-            lines += [f"    {t.describe()}" for t in self._tasks]
-        else:
-            if self._dirty:
-                self._configure()
-            lines.append(f"  tasks, {len(self._problems)} priority level(s), highest first "
-                         f"(+ {self.global_regularisation.describe()} in each):")
-            for p, own in zip(self._problems, self._level_tasks):
-                state = p.return_code.value
-                lines.append(f"    level {p.level} [{state}]:")
-                lines += [f"      {t.describe()}" for t in own]
-            if self.resolution_strategy is ResolutionStrategy.GENERALIZED:
-                lines.append("  priorities (default 1 = strict between levels): " + (", ".join(
-                    f"{h} > {lo}: {a:g}" for (h, lo), a in self.priorities.items()) or "all strict"))
-        lines.append("  constraints:")
-        lines += [f"    {c.describe()}" for c in self._constraints]
-        if self._solution_found:
-            with np.printoptions(precision=4, suppress=True):
-                lines.append(f"  joint acceleration command: {self.get_joint_acceleration_command()}")
-                lines.append(f"  joint torque command:       {self._tau_cmd}")
-        return "\n".join(lines)
+        return describe_controller(self)

@@ -41,7 +41,6 @@ class QPSolver(Enum):
 class ReturnCode(Enum):
     SUCCESS = "success"
     MAX_ITERATIONS = "max_iterations_reached"
-    TIME_LIMIT = "time_limit_reached"
     PRIMAL_INFEASIBLE = "primal_infeasible"
     DUAL_INFEASIBLE = "dual_infeasible"
     NON_FINITE_PROBLEM = "non_finite_problem"
@@ -82,10 +81,6 @@ class QPBackend:
             self._fixed = _robust(self._fixed, seconds / (1.0 if it <= 2 else it))
         else:
             self._per = _robust(self._per, max(seconds - self._fixed, 0.0) / (it - 1))
-
-    @property
-    def seconds_per_iteration(self) -> float:
-        return self._per if self._per > 0.0 else self._fixed
 
     def solve(self, H, g, A, b, C, l, u, lbox, ubox) -> ReturnCode:
         raise NotImplementedError
