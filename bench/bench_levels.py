@@ -85,7 +85,7 @@ def main(argv=None) -> int:
     print(f"update() timing with priority levels, lwr 7-DoF closed loop, {args.cycles} cycles (microseconds)")
     print(f"{'strategy':<22}{'levels':>7}{'solver':>8}{'median':>9}{'p99':>9}{'held':>6}")
     for strategy, n, prio in rows:
-        for solver in ("proxqp", "osqp"):
+        for solver in ("daqp", "proxqp", "osqp"):
             run(strategy, solver, n, 200, prio)  # warm-up
             med, p99, held = run(strategy, solver, n, args.cycles, prio)
             levels = 1 if strategy == "one_level_weighted" else n

@@ -18,7 +18,7 @@ import os
 import numpy as np
 import pinocchio as pin
 
-from ..math.rotations import is_rotation
+from ..math.rotations import is_rotation, quaternion_xyzw
 from ..utils.logger import get_logger
 from . import frame_kinematics as fk
 from .com_kinematics import ComKinematics
@@ -200,7 +200,7 @@ class RobotModel:
         if self.floating_base:
             R = self._world_H_base[:3, :3]
             self._q_pin[:3] = self._world_H_base[:3, 3]
-            self._q_pin[3:7] = pin.Quaternion(R).coeffs()
+            self._q_pin[3:7] = quaternion_xyzw(R)
             self._v_pin[:3] = R.T @ self._base_twist_world[:3]
             self._v_pin[3:6] = R.T @ self._base_twist_world[3:]
         self._stamp += 1

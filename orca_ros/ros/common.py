@@ -109,9 +109,8 @@ def pose_to_matrix(pose) -> np.ndarray:
 
 
 def matrix_to_pose(T: np.ndarray, pose) -> None:
-    import pinocchio as pin  # noqa: PLC0415
+    from ..math.rotations import quaternion_xyzw  # noqa: PLC0415
 
-    q = pin.Quaternion(T[:3, :3])
+    x, y, z, w = (float(c) for c in quaternion_xyzw(T[:3, :3]))
     pose.position.x, pose.position.y, pose.position.z = (float(v) for v in T[:3, 3])
-    pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w = (float(q.x), float(q.y),
-                                                                                      float(q.z), float(q.w))
+    pose.orientation.x, pose.orientation.y, pose.orientation.z, pose.orientation.w = x, y, z, w

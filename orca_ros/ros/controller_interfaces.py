@@ -209,12 +209,15 @@ class ControllerInterfaces:
             err_pub.publish(err)
 
     def loop_statistics(self):
-        per = np.array(self.loop_periods[-2000:]) if self.loop_periods else np.zeros(1)
-        sol = np.array(self.solve_times[-2000:]) if self.solve_times else np.zeros(1)
-        return {"solve_median_us": float(np.median(sol) * 1e6), "solve_p99_us": float(np.percentile(sol, 99) * 1e6),
-                "period_mean_ms": float(per.mean() * 1e3),
-                "period_p99_ms": float(np.percentile(per, 99) * 1e3),
-                "jitter_p99_ms": float(np.percentile(np.abs(per - self.period), 99) * 1e3)}
+        """Solve times and loop periods over the last ``statistics_window`` cycles."""
+        sol, per = self.solve_times, self.loop_periods
+        jitter = np.abs(per.values() - self.period) if len(per) else np.zeros(1)
+        return {"solve_median_us": sol.quantile(0.5) * 1e6, "solve_p99_us": sol.quantile(0.99) * 1e6,
+                "solve_max_us": sol.max() * 1e6,
+                "period_mean_ms": per.mean() * 1e3, "period_median_ms": per.quantile(0.5) * 1e3,
+                "period_p99_ms": per.quantile(0.99) * 1e3, "period_p999_ms": per.quantile(0.999) * 1e3,
+                "period_max_ms": per.max() * 1e3, "cycles": sol.total,
+                "jitter_p99_ms": float(np.percentile(jitter, 99) * 1e3)}
 
     def _publish_diagnostics(self) -> None:
         st = DiagnosticStatus()
@@ -233,13 +236,29 @@ class ControllerInterfaces:
                   "solve_time_median_us": f"{stats['solve_median_us']:.1f}",
                   "solve_time_p99_us": f"{stats['solve_p99_us']:.1f}",
                   "loop_period_mean_ms": f"{stats['period_mean_ms']:.3f}",
+                  "loop_period_p99_ms": f"{stats['period_p99_ms']:.3f}",
+                  "loop_period_p999_ms": f"{stats['period_p999_ms']:.3f}",
+                  "loop_period_max_ms": f"{stats['period_max_ms']:.3f}",
                   "loop_jitter_p99_ms": f"{stats['jitter_p99_ms']:.3f}",
+                  "cycles": str(stats["cycles"]), "rss_kb": str(_rss_kb()),
                   "active_tasks": ",".join(active), "enabled": str(self._enabled)}
         st.values = [KeyValue(key=k, value=v) for k, v in values.items()]
         arr = DiagnosticArray()
         arr.header.stamp = self.get_clock().now().to_msg()
         arr.status = [st]
         self.pub_diag.publish(arr)
+
+
+def _rss_kb() -> int:
+    """Resident set size of this process in kB (Linux; 0 elsewhere)."""
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1])
+    except OSError:
+        pass
+    return 0
 
 
 def _quat_pose(q):

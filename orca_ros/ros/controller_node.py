@@ -12,6 +12,7 @@ resumes when good data returns.
 """
 from __future__ import annotations
 
+import gc
 import sys
 import time
 
@@ -23,6 +24,7 @@ from std_msgs.msg import Float64MultiArray
 
 from ..configuration import build_from_config
 from ..safety import SafeCommand
+from ..utils.ring_buffer import RingBuffer
 from .common import COMMAND_QOS, STATE_QOS, nested_parameters, param, pose_to_matrix, run_node, stamp_to_sec
 from .controller_interfaces import ControllerInterfaces
 
@@ -58,8 +60,15 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         self._enabled = True
         self._t_prev = None
         self._safe_reason = None
-        self.solve_times: list[float] = []
-        self.loop_periods: list[float] = []
+        # loop statistics over a bounded window (nothing grows while the node runs)
+        window = int(param(self, "statistics_window", 10000))
+        self.solve_times = RingBuffer(window)
+        self.loop_periods = RingBuffer(window)
+        # garbage collection kept out of the control cycle: after start-up, everything alive is frozen out of
+        # the collector's sight and automatic collection is off; a low-rate timer collects the youngest
+        # generation between cycles (the cycle itself allocates little and creates no reference cycles)
+        self.manage_gc = bool(param(self, "manage_gc", True))
+        self._gc_frozen = False
         self._last_loop_wall = None
         self._cmd_msg = Float64MultiArray()
         self._cmd_msg.data = [0.0] * self.n
@@ -76,6 +85,8 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         if self.floating:
             self.create_subscription(Odometry, str(param(self, "odom_topic", "odom")), self._on_odom, STATE_QOS)
         self.setup_interfaces(float(param(self, "diagnostics_rate", 5.0)), float(param(self, "feedback_rate", 50.0)))
+        if self.manage_gc:
+            self.create_timer(float(param(self, "gc_period", 1.0)), self._collect_garbage)
         if self.trigger == "timer":
             self.create_timer(self.period, self._control_step)
         elif self.trigger != "joint_state":
@@ -168,7 +179,7 @@ class OrcaControllerNode(Node, ControllerInterfaces):
             return  # nothing is sent before the first valid state
         wall = time.monotonic()
         if self._last_loop_wall is not None:
-            self.loop_periods.append(wall - self._last_loop_wall)
+            self.loop_periods.push(wall - self._last_loop_wall)
         self._last_loop_wall = wall
         t = self._now()
         dt = self.period if self._t_prev is None else max(1e-6, t - self._t_prev)
@@ -191,7 +202,7 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         except Exception as exc:  # a bug or bad data must not kill the node: go safe and say why
             self.get_logger().error(f"controller update raised: {exc}", throttle_duration_sec=1.0)
             ok = False
-        self.solve_times.append(time.perf_counter() - t0)
+        self.solve_times.push(time.perf_counter() - t0)
         if not ok:
             code = self.controller.get_return_code()
             self._publish_safe(t, f"no QP solution ({code.value})")
@@ -205,6 +216,18 @@ class OrcaControllerNode(Node, ControllerInterfaces):
             self._safe_reason = None
             self.safe.reset()
         self._publish(np.clip(cmd, -self.safe.limit, self.safe.limit))
+
+    def _collect_garbage(self) -> None:
+        """Between cycles: freeze what start-up allocated (once control runs), then collect the young."""
+        if not self._gc_frozen:
+            if not self._have_state:
+                return
+            gc.collect()
+            gc.freeze()
+            gc.disable()
+            self._gc_frozen = True
+            return
+        gc.collect(1)
 
     def _publish_safe(self, t: float, reason: str, fresh: bool = True) -> None:
         if reason != self._safe_reason:

@@ -22,6 +22,7 @@ from std_msgs.msg import Float64MultiArray
 from std_srvs.srv import Trigger
 
 from ..configuration import resolve_urdf_path
+from ..math.rotations import quaternion_xyzw
 from ..robot import RobotModel
 from ..sim import SimServer
 from .common import COMMAND_QOS, STATE_QOS, run_node, param, sec_to_stamp
@@ -171,8 +172,6 @@ class PyBulletBridge(Node):
             self.pub_clock.publish(c)
 
     def _publish_odom(self, stamp) -> None:
-        import pinocchio as pin  # noqa: PLC0415
-
         T = self.model.get_world_to_base_transform()
         twist = self.model.get_base_velocity()
         R = T[:3, :3]
@@ -182,8 +181,8 @@ class PyBulletBridge(Node):
         m.child_frame_id = "base_link"
         p = m.pose.pose
         p.position.x, p.position.y, p.position.z = (float(v) for v in T[:3, 3])
-        q = pin.Quaternion(R)
-        p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w = q.x, q.y, q.z, q.w
+        x, y, z, w = (float(c) for c in quaternion_xyzw(R))  # (pin.Quaternion(R) leaks: see quaternion_xyzw)
+        p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w = x, y, z, w
         # nav_msgs/Odometry: the twist is expressed in child_frame_id
         lin, ang = R.T @ twist[:3], R.T @ twist[3:]
         m.twist.twist.linear.x, m.twist.twist.linear.y, m.twist.twist.linear.z = (float(v) for v in lin)
