@@ -78,13 +78,8 @@ def build(sc, solver=None):
 
 
 def set_state(robot, q, v):
-    if robot.is_floating_base():
-        T = pin.XYZQUATToSE3(q[:7]).homogeneous
-        R = T[:3, :3]
-        twist = np.concatenate((R @ v[:3], R @ v[3:6]))
-        robot.set_robot_state(T, q[7:], twist, v[6:], np.array([0.0, 0.0, -9.81]))
-    else:
-        robot.set_robot_state(q, v)
+    """The state as TSID receives it (Pinocchio's q, v): RobotModel.set_configuration."""
+    robot.set_configuration(q, v)
 
 
 def _set_refs(h, t):

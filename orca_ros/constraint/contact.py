@@ -134,10 +134,15 @@ class Contact(NormalForceRamp, ContactBase):
         self.minimum_normal_force = 0.0
         self.offset = None if offset is None else np.asarray(offset, dtype=float).reshape(3)
         self._faces = None
+        self._written_C = self._written_faces = None  # what the constant rows were last written for
         self.existence = ContactExistenceCondition(f"{name}_existence", self)
         if frame is not None:
             self.set_contact_frame(frame)
         self._make_faces()
+
+    def activate(self) -> bool:
+        self._written_C = None
+        return super().activate()
 
     # -------------------------------------------------------------- configuration
     def set_friction_coefficient(self, mu: float) -> None:
@@ -205,22 +210,26 @@ class Contact(NormalForceRamp, ContactBase):
         return J[:3], bias[:3]
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
-        ws = self.wrench_slice()
-        f = slice(ws.start, ws.start + 3)
         nf = self.n_faces
-        self.C[:nf, f] = self._faces
-        self.lb[:nf] = -np.inf
-        self.ub[:nf] = 0.0
-        self.C[nf, f] = self.normal
+        # the cone rows and the wrench bounds change only with the settings (new faces), the rows' place in the
+        # plan (new views) and a switch-on (the plan relaxed the rows while off): rewritten then; every cycle
+        # only the normal force bound follows the ramp
+        if self._written_C is not self.C or self._written_faces is not self._faces:
+            computing = self.is_computing()
+            ws = self.wrench_slice()
+            f = slice(ws.start, ws.start + 3)
+            self.C[:nf, f] = self._faces
+            self.lb[:nf] = -np.inf
+            self.ub[:nf] = 0.0
+            self.C[nf, f] = self.normal
+            # force free (the rows above bound it), torque of a point contact zero; all zero when switched off
+            free = np.inf if computing else 0.0
+            self.wrench_lower[:3], self.wrench_upper[:3] = -free, free
+            self.wrench_lower[3:], self.wrench_upper[3:] = 0.0, 0.0
+            self._written_C, self._written_faces = self.C, self._faces
         bound = self.normal_force_bound()
-        self.lb[nf] = min(self.minimum_normal_force * self.get_ramp_value(), bound)
+        self.lb[nf] = min(self.minimum_normal_force * self._ramp_factor, bound)
         self.ub[nf] = bound
-        # force free (the rows above bound it), torque of a point contact zero; all zero when switched off
-        if self.is_computing():
-            self.wrench_lower[:3], self.wrench_upper[:3] = -np.inf, np.inf
-        else:
-            self.wrench_lower[:3], self.wrench_upper[:3] = 0.0, 0.0
-        self.wrench_lower[3:], self.wrench_upper[3:] = 0.0, 0.0
         self.settle_ramp()
 
 

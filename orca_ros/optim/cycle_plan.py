@@ -55,6 +55,8 @@ class CyclePlan:
         # diagonal tasks (every level's problem has the regularisation): per-task ws and wsf buffers
         self.diagonal_tasks = [regularisation] + [t for lev in self.diagonal for t in lev]
         self.ws = {id(t): np.zeros(t.rows()) for t in self.diagonal_tasks}
+        self._weight_keys = [None] * len(tasks)
+        self._diagonal_keys = [None] * len(self.diagonal_tasks)
         self.wsf = {id(t): np.zeros(t.rows()) for t in self.diagonal_tasks}
         # dense rows of each level, and of each level together with every level above it
         self.level_rows, self.prefix_rows, k = [], [], 0
@@ -99,16 +101,18 @@ class CyclePlan:
     # -------------------------------------------------------------- per cycle
     def update(self) -> None:
         """Row weights, relaxation of switched-off constraints, variable bounds (after the objects' updates)."""
-        w = self.w
-        for t, rows in zip(self.tasks, self.task_rows):
-            ew = t.get_effective_weight()
-            if ew > 0.0:
-                np.multiply(t.selection, ew, out=w[rows])
-            else:
-                w[rows] = 0.0
-        for t in self.diagonal_tasks:
+        w, keys = self.w, self._weight_keys
+        for i, (t, rows) in enumerate(zip(self.tasks, self.task_rows)):
+            key = (t.get_effective_weight(), t.selection_version)
+            if key != keys[i]:  # row weights change only with the ramps, weights and selections
+                np.multiply(t.selection, key[0], out=w[rows])
+                keys[i] = key
+        for i, t in enumerate(self.diagonal_tasks):
             ws = self.ws[id(t)]
-            np.multiply(t.selection, t.get_effective_weight(), out=ws)
+            key = (t.get_effective_weight(), t.selection_version)
+            if key != self._diagonal_keys[i]:
+                np.multiply(t.selection, key[0], out=ws)
+                self._diagonal_keys[i] = key
             np.multiply(ws, t.f, out=self.wsf[id(t)])
         relaxed = self._relaxed
         for c, rows in zip(self.eq, self._eq_rows):

@@ -18,7 +18,7 @@ import os
 import numpy as np
 import pinocchio as pin
 
-from ..math.rotations import is_rotation, quaternion_xyzw
+from . import state_input
 from ..utils.logger import get_logger
 from . import frame_kinematics as fk
 from .com_kinematics import ComKinematics
@@ -108,6 +108,7 @@ class RobotModel:
         self._v = np.zeros(self.ndof)
         self._world_H_base = np.eye(4)
         self._base_twist_world = np.zeros(6)
+        self._base_from_q_pin = False  # set_configuration: world_H_base / twist derived from q, v on demand
         # the root link (with a floating base: the free-flyer's child link) is the default base frame
         self._base_frame = None
         self.set_base_frame(self._first_body_frame() or WORLD_FRAME)
@@ -165,57 +166,17 @@ class RobotModel:
         ``set_robot_state(world_H_base, q, base_twist_world, v, gravity)`` (also valid for a fixed base:
         the base transform/twist are then ignored and only the gravity is applied)."""
         self._require_model()
-        if len(args) == 2:
-            if self.floating_base:
-                raise ValueError("floating-base robot: use set_robot_state(world_H_base, q, base_twist, v, gravity)")
-            q, v = args
-        elif len(args) == 5:
-            T, q, twist, v, g = args
-            T = self._checked(T, (4, 4), "world_H_base")
-            twist = self._checked(twist, (6,), "base twist")
-            if not is_rotation(T[:3, :3]):
-                raise ValueError("world_H_base rotation block is not a rotation matrix")
-            if self.floating_base:
-                self._world_H_base[:] = T
-                self._base_twist_world[:] = twist
-            g = self._checked(g, (3,), "gravity")
-            if not np.array_equal(g, self._gravity):
-                self.set_gravity(g)
-        else:
-            raise TypeError("set_robot_state takes (q, v) or (world_H_base, q, base_twist, v, gravity)")
-        q = self._checked(q, (self.ndof,), "joint positions")
-        v = self._checked(v, (self.ndof,), "joint velocities")
-        self._q[:] = q
-        self._v[:] = v
-        model = self.model
-        if self._q_simple:
-            self._q_pin[model.nq - self.ndof:] = q
-        else:
-            for k, (iq, nq) in enumerate(self._q_map):
-                if nq == 1:
-                    self._q_pin[iq] = q[k]
-                else:
-                    self._q_pin[iq], self._q_pin[iq + 1] = np.cos(q[k]), np.sin(q[k])
-        self._v_pin[self.nbase:] = v
-        if self.floating_base:
-            R = self._world_H_base[:3, :3]
-            self._q_pin[:3] = self._world_H_base[:3, 3]
-            self._q_pin[3:7] = quaternion_xyzw(R)
-            self._v_pin[:3] = R.T @ self._base_twist_world[:3]
-            self._v_pin[3:6] = R.T @ self._base_twist_world[3:]
-        self._stamp += 1
-        self._initialized = True
+        state_input.set_joint_and_base_state(self, args)
+
+    def set_configuration(self, q, v) -> None:
+        """State in Pinocchio's convention (what TSID and Pinocchio users hold): ``q`` of size nq (floating base:
+        position, unit quaternion x y z w, then the joints), ``v`` of size nv (floating base: the base twist in
+        the base frame, then the joints)."""
+        self._require_model()
+        state_input.set_configuration(self, q, v)
 
     def _checked(self, x, shape, what) -> np.ndarray:
-        a = np.asarray(x, dtype=float)
-        if a.shape != shape:
-            if a.size == int(np.prod(shape)) and len(shape) == 1:
-                a = a.reshape(shape)
-            else:
-                raise ValueError(f"{what}: expected shape {shape} for robot '{self.name}', got {a.shape}")
-        if not np.isfinite(a).all():
-            raise ValueError(f"{what}: contains NaN or infinite values: {a}")
-        return a
+        return state_input.checked(self, x, shape, what)
 
     def is_initialized(self) -> bool:
         return self._initialized
@@ -278,9 +239,11 @@ class RobotModel:
         return self._v.copy()
 
     def get_world_to_base_transform(self) -> np.ndarray:
+        state_input.sync_base(self)
         return self._world_H_base.copy()
 
     def get_base_velocity(self) -> np.ndarray:
+        state_input.sync_base(self)
         return self._base_twist_world.copy()
 
     # ------------------------------------------------------------------ dynamics

@@ -21,6 +21,7 @@ class GenericTask(TaskBase):
         self.E = np.zeros((0, 0))
         self.f = np.zeros(0)
         self.selection = np.zeros(0)
+        self.selection_version = 0  # bumped whenever the selection changes (the plan caches weight x selection)
 
     # -------------------------------------------------------------- configuration
     def rows(self) -> int:
@@ -33,6 +34,7 @@ class GenericTask(TaskBase):
         self.E = np.zeros((m, layout.nx))
         self.f = np.zeros(m)
         self.selection = np.ones(m)
+        self.selection_version += 1
         if self._selection_request is not None:
             self.set_selection_vector(self._selection_request)
 
@@ -67,6 +69,7 @@ class GenericTask(TaskBase):
             raise ValueError(f"task '{self.name}': selection vector needs {self.selection.size} entries, got {s.size}")
         self.selection[:] = s
         self._selection_request = s
+        self.selection_version += 1
 
     def get_selection_vector(self) -> np.ndarray:
         return self.selection.copy()
