@@ -107,7 +107,6 @@ def run(name, n_steps=None, solver=None, capture=None):
     n = n_steps or S.steps(sc)
     times = np.empty(n)
     failures = 0
-    nb = 6 if sc["floating"] else 0
     gc.collect()
     gc.disable()
     for k in range(n):
