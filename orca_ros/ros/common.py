@@ -36,8 +36,8 @@ def nested_parameters(node, prefix: str) -> dict:
 def make_executor():
     """EventsExecutor where this rclpy has it (lower overhead), else the single-threaded one.
 
-    Drive it with :func:`spin`: with rclpy 7.1.6 (PyPI), ``EventsExecutor.spin()`` never fires timers while
-    repeated ``spin_once`` calls do (measured), so both executors are driven the same way.
+    Drive it with repeated ``spin_once`` calls (as :func:`run_node` does): with rclpy 7.1.6 (PyPI),
+    ``EventsExecutor.spin()`` never fires timers while ``spin_once`` does (measured).
     """
     try:
         from rclpy.experimental import EventsExecutor  # noqa: PLC0415
@@ -47,35 +47,49 @@ def make_executor():
         return rclpy.executors.SingleThreadedExecutor()
 
 
-def spin(executor, node) -> None:
-    """Run until shutdown (see :func:`make_executor`)."""
-    while rclpy.ok() and node.context.ok():
-        executor.spin_once(timeout_sec=0.1)
-
-
 def run_node(node_class, args=None, on_shutdown: str | None = None) -> int:
-    """Console-script body: init, spin ``node_class()`` until Ctrl-C / shutdown, call its ``on_shutdown``
-    method (best effort), clean up."""
-    rclpy.init(args=args)
+    """Console-script body: init, spin ``node_class()`` until SIGINT / SIGTERM / shutdown, then call its
+    ``on_shutdown`` method *while the context is still valid* (the controller publishes its hold command
+    there), clean up and return an exit code. No traceback on a signal; a node that cannot start (bad
+    parameters, missing URDF) says why in one line and returns 1."""
+    import signal  # noqa: PLC0415
+
+    from rclpy.signals import SignalHandlerOptions  # noqa: PLC0415
+
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    received: list[int] = []
+
+    def on_signal(signum, _frame):
+        received.append(signum)
+
+    previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     node = None
+    code = 0
     try:
         node = node_class()
         executor = make_executor()
         executor.add_node(node)
-        spin(executor, node)
-    except (KeyboardInterrupt, rclpy.executors.ExternalShutdownException):
-        pass
+        while not received and rclpy.ok() and node.context.ok():
+            executor.spin_once(timeout_sec=0.05)
+    except Exception as exc:  # noqa: BLE001 - start-up errors: one clear line, no traceback
+        name = getattr(node_class, "__name__", "node")
+        print(f"[{name}] cannot run: {type(exc).__name__}: {exc}", flush=True)
+        code = 1
     finally:
         if node is not None:
+            if received:
+                node.get_logger().info(f"{signal.Signals(received[0]).name} received: shutting down")
             if on_shutdown:
                 try:
                     getattr(node, on_shutdown)()
-                except Exception:
-                    pass
+                except Exception as exc:  # noqa: BLE001
+                    node.get_logger().error(f"shutdown action failed: {exc}")
             node.destroy_node()
         if rclpy.ok():
             rclpy.shutdown()
-    return 0
+        for s, h in previous.items():
+            signal.signal(s, h)
+    return code
 
 
 def stamp_to_sec(stamp) -> float:

@@ -11,14 +11,13 @@ state). ``/diagnostics``: solver status, solve time, loop period and jitter, act
 from __future__ import annotations
 
 import numpy as np
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from geometry_msgs.msg import PoseStamped
 from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import MultiDOFJointTrajectoryPoint
 from std_msgs.msg import Float64MultiArray
 from std_srvs.srv import SetBool, Trigger
 
-from ..task import CartesianTask, JointAccelerationTask, JointTorqueTask
+from ..task import CartesianTask, CoMTask, JointAccelerationTask, JointTorqueTask
 from .common import DEFAULT_QOS, matrix_to_pose, pose_to_matrix
 
 
@@ -45,9 +44,7 @@ class ControllerInterfaces:
         self.create_service(Trigger, "~/deactivate", self._on_deactivate)
         self.create_service(SetBool, "~/enable", self._on_enable)
         self.create_service(Trigger, "~/reset_targets", self._on_reset_targets)
-        self.pub_diag = self.create_publisher(DiagnosticArray, "/diagnostics", DEFAULT_QOS)
-        if diagnostics_rate > 0:
-            self.create_timer(1.0 / diagnostics_rate, self._publish_diagnostics)
+        self.setup_diagnostics(diagnostics_rate)
         if feedback_rate > 0:
             self.create_timer(1.0 / feedback_rate, self._publish_feedback)
         for name, active in self.setup.initially_active.items():
@@ -61,16 +58,18 @@ class ControllerInterfaces:
         frame = msg.header.frame_id
         try:
             T = pose_to_matrix(msg.pose)
-            if frame and frame != self.robot.get_base_frame():
+            base = self.robot.get_base_frame()
+            if frame and frame != base:
                 if not self.robot.frame_exists(frame):
-                    raise ValueError(f"unknown frame '{frame}'")
+                    raise ValueError(f"unknown frame '{frame}' (use 'world', '' for the base frame '{base}', "
+                                     "or a link of the model)")
                 if not self._have_state:
                     raise ValueError(f"frame '{frame}' needs a joint state to be resolved")
                 self._apply_state()
-                T = self.robot.get_frame_pose(frame) @ T
+                T = self.robot.get_relative_transform(base, frame) @ T
             task.servo_controller().set_desired(T)
         except ValueError as exc:
-            self.get_logger().error(f"target for task '{name}' rejected: {exc}")
+            self.say("error", f"target:{name}", f"target for task '{name}' rejected: {exc}")
             return
         self._target_time[name] = self._now()
 
@@ -96,7 +95,7 @@ class ControllerInterfaces:
                 raise ValueError("NaN or infinite values")
             task.servo_controller().set_desired(T, vel, acc)
         except ValueError as exc:
-            self.get_logger().error(f"target point for task '{name}' rejected: {exc}")
+            self.say("error", f"target:{name}", f"target point for task '{name}' rejected: {exc}")
             return
         self._target_time[name] = self._now()
 
@@ -127,7 +126,7 @@ class ControllerInterfaces:
                     raise ValueError("a joint task needs 'position' values")
                 task.set_desired(pos, vel)
         except ValueError as exc:
-            self.get_logger().error(f"target for task '{name}' rejected: {exc}")
+            self.say("error", f"target:{name}", f"target for task '{name}' rejected: {exc}")
             return
         self._target_time[name] = self._now()
 
@@ -142,14 +141,23 @@ class ControllerInterfaces:
                 del self._target_time[name]
 
     def _hold_task(self, task) -> None:
+        """Target := the current state (zero velocity), integrators cleared: the task stops pulling."""
         if isinstance(task, CartesianTask):
             task.servo_controller().hold_current_pose()
+            task.servo_controller().pid().reset()
         elif isinstance(task, JointAccelerationTask):
             task.hold_current_position()
+            task.pid().reset()
+        elif isinstance(task, CoMTask):
+            task.set_desired(task.get_current_position())
+            task.pid().reset()
 
     # -------------------------------------------------------------- services
     def _on_set_active(self, name, req, res):
         task = self.setup.tasks[name]
+        if not req.data and self._have_state and task.is_computing():
+            self._apply_state()
+            self._hold_task(task)  # ramping out where it is, not pulling towards its old target
         changed = task.activate() if req.data else task.deactivate()
         res.success = True
         res.message = f"task '{name}' {'activating' if req.data else 'deactivating'}" if changed else \
@@ -162,8 +170,12 @@ class ControllerInterfaces:
         return res
 
     def _on_deactivate(self, req, res):
+        # stop where you are: every target latches to the current state before the ramps start, so nothing
+        # pulls while the tasks fade out; what remains is gravity compensation at rest
+        if self._have_state:
+            self._reset_targets()
         self.controller.deactivate_tasks_and_constraints()
-        res.success, res.message = True, "deactivating every task and constraint"
+        res.success, res.message = True, "deactivating every task and constraint (targets latched to the current state)"
         return res
 
     def _on_enable(self, req, res):
@@ -203,62 +215,13 @@ class ControllerInterfaces:
                 msg.header.frame_id = self.robot.get_base_frame()
                 matrix_to_pose(servo.get_current_cartesian_pose(), msg.pose)
                 pose_pub.publish(msg)
-                err.data = servo.get_cartesian_pose_error().tolist()
+                e = servo.get_cartesian_pose_error()
+                self.error_watch.observe(name, float(np.linalg.norm(e[:3])) if task.is_computing() else 0.0,
+                                         self._now())
+                err.data = e.tolist()
             elif isinstance(task, JointAccelerationTask):
                 err.data = task.get_position_error().tolist()
             err_pub.publish(err)
-
-    def loop_statistics(self):
-        """Solve times and loop periods over the last ``statistics_window`` cycles."""
-        sol, per = self.solve_times, self.loop_periods
-        jitter = np.abs(per.values() - self.period) if len(per) else np.zeros(1)
-        return {"solve_median_us": sol.quantile(0.5) * 1e6, "solve_p99_us": sol.quantile(0.99) * 1e6,
-                "solve_max_us": sol.max() * 1e6,
-                "period_mean_ms": per.mean() * 1e3, "period_median_ms": per.quantile(0.5) * 1e3,
-                "period_p99_ms": per.quantile(0.99) * 1e3, "period_p999_ms": per.quantile(0.999) * 1e3,
-                "period_max_ms": per.max() * 1e3, "cycles": sol.total,
-                "jitter_p99_ms": float(np.percentile(jitter, 99) * 1e3)}
-
-    def _publish_diagnostics(self) -> None:
-        st = DiagnosticStatus()
-        st.name = f"{self.get_name()}: whole-body controller"
-        st.hardware_id = self.robot.name
-        code = self.controller.get_return_code()
-        if not self._have_state:
-            st.level, st.message = DiagnosticStatus.WARN, "waiting for joint_states"
-        elif self._safe_reason is not None:
-            st.level, st.message = DiagnosticStatus.ERROR, f"safe command: {self._safe_reason}"
-        else:
-            st.level, st.message = DiagnosticStatus.OK, "controlling"
-        stats = self.loop_statistics()
-        active = [n for n, t in self.setup.tasks.items() if t.is_computing()]
-        values = {"solver_status": code.value, "solver": self.controller.solver.value,
-                  "solve_time_median_us": f"{stats['solve_median_us']:.1f}",
-                  "solve_time_p99_us": f"{stats['solve_p99_us']:.1f}",
-                  "loop_period_mean_ms": f"{stats['period_mean_ms']:.3f}",
-                  "loop_period_p99_ms": f"{stats['period_p99_ms']:.3f}",
-                  "loop_period_p999_ms": f"{stats['period_p999_ms']:.3f}",
-                  "loop_period_max_ms": f"{stats['period_max_ms']:.3f}",
-                  "loop_jitter_p99_ms": f"{stats['jitter_p99_ms']:.3f}",
-                  "cycles": str(stats["cycles"]), "rss_kb": str(_rss_kb()),
-                  "active_tasks": ",".join(active), "enabled": str(self._enabled)}
-        st.values = [KeyValue(key=k, value=v) for k, v in values.items()]
-        arr = DiagnosticArray()
-        arr.header.stamp = self.get_clock().now().to_msg()
-        arr.status = [st]
-        self.pub_diag.publish(arr)
-
-
-def _rss_kb() -> int:
-    """Resident set size of this process in kB (Linux; 0 elsewhere)."""
-    try:
-        with open("/proc/self/status") as f:
-            for line in f:
-                if line.startswith("VmRSS:"):
-                    return int(line.split()[1])
-    except OSError:
-        pass
-    return 0
 
 
 def _quat_pose(q):

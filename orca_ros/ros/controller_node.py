@@ -18,7 +18,6 @@ import time
 
 import numpy as np
 from nav_msgs.msg import Odometry
-from rclpy.node import Node
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
 
@@ -26,10 +25,13 @@ from ..configuration import build_from_config
 from ..safety import SafeCommand
 from ..utils.ring_buffer import RingBuffer
 from .common import COMMAND_QOS, STATE_QOS, nested_parameters, param, pose_to_matrix, run_node, stamp_to_sec
+from .controller_diagnostics import ControllerDiagnostics
 from .controller_interfaces import ControllerInterfaces
+from .guarded_node import GuardedNode
+from .joint_state_input import JointStateInput, StateRejected
 
 
-class OrcaControllerNode(Node, ControllerInterfaces):
+class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostics):
     def __init__(self, **kwargs):
         super().__init__("orca_controller", automatically_declare_parameters_from_overrides=True, **kwargs)
         cfg = {k: param(self, k, d) for k, d in (
@@ -50,8 +52,14 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         self.safe = SafeCommand(self.robot, setup.gravity_compensated_by_hardware,
                                 float(param(self, "safe_damping", 10.0)), float(param(self, "safe_ramp", 0.2)))
         self._wire_of_model = setup.model_index  # model joint k -> wire slot
+        self._input = JointStateInput(self.robot, setup.joints, setup.model_index,
+                                      float(param(self, "position_margin", 0.1)),
+                                      float(param(self, "velocity_factor", 3.0)))
         self._q = np.zeros(self.n)
         self._v = np.zeros(self.n)
+        self._q_in = np.zeros(self.n)
+        self._v_in = np.zeros(self.n)
+        self._stopped = False
         self._state_stamp = None
         self._state_wall = None  # wall time of the last valid joint state
         self._odom_wall = None   # ... and of the last valid odom (floating base)
@@ -60,6 +68,8 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         self._enabled = True
         self._t_prev = None
         self._safe_reason = None
+        self._safe_cause = None
+        self.qp_failures = 0
         # loop statistics over a bounded window (nothing grows while the node runs)
         window = int(param(self, "statistics_window", 10000))
         self.solve_times = RingBuffer(window)
@@ -96,30 +106,18 @@ class OrcaControllerNode(Node, ControllerInterfaces):
 
     # -------------------------------------------------------------- state input
     def _on_joint_state(self, msg: JointState) -> None:
-        names = list(msg.name)
         try:
-            idx = [names.index(j) for j in self.setup.joints]
-        except ValueError:
-            missing = [j for j in self.setup.joints if j not in names]
-            self.get_logger().error(f"joint_states rejected: missing joints {missing}", throttle_duration_sec=1.0)
-            return
-        if len(msg.position) != len(names) or len(msg.velocity) != len(names):
-            self.get_logger().error("joint_states rejected: position/velocity arrays do not match the names",
-                                    throttle_duration_sec=1.0)
-            return
-        pos = np.asarray(msg.position, dtype=float)[idx]
-        vel = np.asarray(msg.velocity, dtype=float)[idx]
-        if not (np.all(np.isfinite(pos)) and np.all(np.isfinite(vel))):
-            self.get_logger().error("joint_states rejected: NaN or infinite position/velocity",
-                                    throttle_duration_sec=1.0)
+            self._input.read(msg.name, msg.position, msg.velocity, self._q_in, self._v_in)
+        except StateRejected as exc:
+            self.say("error", exc.cause, str(exc))
             return
         stamp = stamp_to_sec(msg.header.stamp)
-        self._state_wall = time.monotonic()
         if self.trigger == "joint_state" and self._state_stamp is not None and stamp <= self._state_stamp:
+            self._state_wall = time.monotonic()
             return  # a repeated state (e.g. the bridge re-announcing itself): computing twice would add a step
-        # wire order -> model order
-        self._q[:] = pos[self._wire_of_model]
-        self._v[:] = vel[self._wire_of_model]
+        self._q[:] = self._q_in
+        self._v[:] = self._v_in
+        self._state_wall = time.monotonic()
         self._state_stamp = stamp
         self._on_new_state()
 
@@ -128,8 +126,8 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         tw = msg.twist.twist
         vals = np.array([p.x, p.y, p.z, o.x, o.y, o.z, o.w, tw.linear.x, tw.linear.y, tw.linear.z,
                          tw.angular.x, tw.angular.y, tw.angular.z], dtype=float)
-        if not np.all(np.isfinite(vals)) or np.linalg.norm(vals[3:7]) < 1e-6:
-            self.get_logger().error("odom rejected: NaN, infinite or zero-quaternion values", throttle_duration_sec=1.0)
+        if not np.isfinite(vals).all() or np.abs(vals).max() > 1e6 or not 0.5 < np.abs(vals[3:7]).sum() < 2.5:
+            self.say("error", "odom", "odom rejected: NaN, absurd (> 1e6) or non-unit-quaternion values")
             return
         T = pose_to_matrix(msg.pose.pose)
         R = T[:3, :3]
@@ -175,8 +173,8 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         return time.monotonic()
 
     def _control_step(self) -> None:
-        if not self._have_state:
-            return  # nothing is sent before the first valid state
+        if not self._have_state or self._stopped:
+            return  # nothing is sent before the first valid state, nor after the shutdown hold
         wall = time.monotonic()
         if self._last_loop_wall is not None:
             self.loop_periods.push(wall - self._last_loop_wall)
@@ -188,34 +186,41 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         if stale is None and self.floating and wall - self._odom_wall > self.state_timeout:
             stale = "odom"
         if stale is not None:
-            self._publish_safe(t, f"{stale} stale (none valid for more than {self.state_timeout * 1e3:.0f} ms)",
-                               fresh=False)
+            self._publish_safe(t, "safe:stale", f"{stale} stale (none valid for more than "
+                               f"{self.state_timeout * 1e3:.0f} ms)", fresh=False)
             return
         self._apply_state()
         if not self._enabled:
-            self._publish_safe(t, "controller disabled (~/enable false)")
+            self._publish_safe(t, "safe:disabled", "controller disabled (~/enable false)", level="info")
             return
         self.expire_targets(t)
         t0 = time.perf_counter()
         try:
             ok = self.controller.update(t, dt)
         except Exception as exc:  # a bug or bad data must not kill the node: go safe and say why
-            self.get_logger().error(f"controller update raised: {exc}", throttle_duration_sec=1.0)
+            self.say("error", "update", f"controller update raised {type(exc).__name__}: {exc}")
             ok = False
         self.solve_times.push(time.perf_counter() - t0)
         if not ok:
             code = self.controller.get_return_code()
-            self._publish_safe(t, f"no QP solution ({code.value})")
+            self.qp_failures += 1
+            self._publish_safe(t, "safe:qp", f"no QP solution ({code.value})")
             return
         cmd = self.controller.get_joint_torque_command()
-        if not np.all(np.isfinite(cmd)):
-            self._publish_safe(t, "non-finite torque command")
+        if not np.isfinite(cmd).all():
+            self._publish_safe(t, "safe:nonfinite", "non-finite torque command")
             return
         if self._safe_reason is not None:
-            self.get_logger().info(f"recovered from: {self._safe_reason}")
+            self.say("info", "recovered", f"recovered from: {self._safe_reason}")
             self._safe_reason = None
+            self._safe_cause = None
             self.safe.reset()
         self._publish(np.clip(cmd, -self.safe.limit, self.safe.limit))
+
+    def on_callback_error(self, what: str, exc: Exception) -> None:
+        """A callback raised: if control is running, this cycle's output is the safe command."""
+        if self._have_state and not self._stopped and "control_step" in what:
+            self._publish_safe(self._now(), "safe:error", f"{what} raised {type(exc).__name__}")
 
     def _collect_garbage(self) -> None:
         """Between cycles: freeze what start-up allocated (once control runs), then collect the young."""
@@ -229,10 +234,11 @@ class OrcaControllerNode(Node, ControllerInterfaces):
             return
         gc.collect(1)
 
-    def _publish_safe(self, t: float, reason: str, fresh: bool = True) -> None:
+    def _publish_safe(self, t: float, cause: str, reason: str, fresh: bool = True, level: str = "warning") -> None:
         if reason != self._safe_reason:
-            self.get_logger().warning(f"safe command: {reason}")
+            self.say(level, cause, f"safe command: {reason}" if level != "info" else f"holding: {reason}")
             self._safe_reason = reason
+            self._safe_cause = cause
         cmd = self.safe.compute(t if fresh else time.monotonic(), self._last_cmd, self._q,
                                 self._v if fresh else None)
         self._publish(cmd)
@@ -245,9 +251,16 @@ class OrcaControllerNode(Node, ControllerInterfaces):
         self.pub_cmd.publish(self._cmd_msg)
 
     def shutdown_command(self) -> None:
-        """On shutdown: hold the arm (gravity, or zero when the hardware compensates it)."""
-        if self._have_state:
-            self._publish(self.safe.hold(self._q, None))
+        """On SIGINT / SIGTERM / shutdown, while the context is valid: stop the loop and send the hold
+        (gravity at the last state, zero when the drives compensate it), waiting until it is delivered."""
+        self._stopped = True
+        if not self._have_state:
+            return
+        self._publish(self.safe.hold(self._q, None))
+        from rclpy.duration import Duration  # noqa: PLC0415
+
+        delivered = self.pub_cmd.wait_for_all_acked(Duration(seconds=0.5))
+        self.get_logger().info("shutdown: hold command sent" + ("" if delivered else " (delivery not confirmed)"))
 
 
 def main(args=None) -> int:

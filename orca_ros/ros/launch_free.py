@@ -135,6 +135,8 @@ class Probe:
             with self.lock:
                 self.diagnostics = {kv.key: kv.value for kv in st.values}
                 self.diagnostics["_message"] = st.message
+                self.diagnostics["_level"] = int.from_bytes(st.level, "little") if isinstance(st.level, bytes) \
+                    else int(st.level)
 
     def last_state(self):
         with self.lock:

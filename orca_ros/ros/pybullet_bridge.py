@@ -8,6 +8,11 @@ as ros2_control's forward effort controller), so a real robot replaces this node
 Modes: ``free_running`` (the simulation advances at wall-clock rate ``rate``) and ``lockstep`` (each command
 advances the simulation by ``control_period`` and answers with the new state: deterministic runs).
 Services: ``~/reset``, ``~/pause``, ``~/unpause`` (std_srvs/Trigger).
+
+Watchdog (free running): without a valid command for ``command_timeout`` [0.02 s of simulated time] the bridge
+holds the robot like a drive would (the last command fades over ``hold_ramp`` [0.05 s] into gravity + damping
+``hold_damping`` [10 /s], see :class:`orca_ros.safety.CommandWatchdog`), says so once, and applies the next
+command as soon as it arrives. Before the first command it holds too.
 """
 from __future__ import annotations
 
@@ -15,7 +20,6 @@ import sys
 
 import numpy as np
 from nav_msgs.msg import Odometry
-from rclpy.node import Node
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
@@ -24,11 +28,13 @@ from std_srvs.srv import Trigger
 from ..configuration import resolve_urdf_path
 from ..math.rotations import quaternion_xyzw
 from ..robot import RobotModel
+from ..safety import CommandWatchdog
 from ..sim import SimServer
-from .common import COMMAND_QOS, STATE_QOS, run_node, param, sec_to_stamp
+from .common import COMMAND_QOS, STATE_QOS, param, run_node, sec_to_stamp
+from .guarded_node import GuardedNode
 
 
-class PyBulletBridge(Node):
+class PyBulletBridge(GuardedNode):
     def __init__(self, **kwargs):
         super().__init__("pybullet_bridge", automatically_declare_parameters_from_overrides=True, **kwargs)
         urdf = param(self, "urdf_path", "lwr.urdf")
@@ -68,13 +74,19 @@ class PyBulletBridge(Node):
         self._order = np.array([self.model.get_joint_names().index(n) for n in joints])
         self.effort_limit = np.array([e if e > 0 else np.inf for e in
                                       np.array(self.model._effort)[self._order]])
-        self.gravity_model = None
-        if self.hw_gravity:
-            self.gravity_model = RobotModel()
-            self.gravity_model.load_model_from_file(urdf, self.floating)
+        # the hardware's own model (Pinocchio, same URDF): emulated gravity compensation and the watchdog's hold
+        self.robot_model = RobotModel()
+        self.robot_model.load_model_from_file(urdf, self.floating)
+        sim_names = self.model.get_joint_names()
+        self._sim_of_model = np.array([sim_names.index(n) for n in self.robot_model.get_joint_names()], dtype=int)
+        self.command_timeout = float(param(self, "command_timeout", 0.02))
+        self.watchdog = None
+        if self.mode == "free_running":  # lockstep: the simulation only advances on commands
+            self.watchdog = CommandWatchdog(self.robot_model, joints, self.command_timeout, self.hw_gravity,
+                                            float(param(self, "hold_damping", 10.0)),
+                                            float(param(self, "hold_ramp", 0.05)))
         self.paused = False
         self._cmd = np.zeros(len(joints))
-        self._got_command = False
         self._last_cmd_time = None
 
         self.pub_js = self.create_publisher(JointState, "joint_states", STATE_QOS)
@@ -103,21 +115,20 @@ class PyBulletBridge(Node):
     def _on_command(self, msg: Float64MultiArray) -> None:
         cmd = np.asarray(msg.data, dtype=float)
         if cmd.size != len(self.joints) or not np.all(np.isfinite(cmd)):
-            log = self.get_logger()
-            # one call site per reason: rclpy throttles per call site
             if cmd.size != len(self.joints):
-                log.error(f"rejected effort command ({cmd.size} values for {len(self.joints)} joints); keeping the "
-                          "last valid command", throttle_duration_sec=1.0)
+                self.say("error", "command:size", f"rejected effort command ({cmd.size} values for "
+                         f"{len(self.joints)} joints); keeping the last valid command")
             else:
-                log.error("rejected effort command (non-finite values); keeping the last valid command",
-                          throttle_duration_sec=1.0)
+                self.say("error", "command:nan", "rejected effort command (non-finite values); keeping the last "
+                         "valid command")
             if self.mode == "lockstep":
                 self._advance()  # the controller waits for a state: keep the loop alive
             return
         np.clip(cmd, -self.effort_limit, self.effort_limit, out=cmd)
         self._cmd = cmd
-        self._got_command = True
         self._last_cmd_time = self.get_clock().now()
+        if self.watchdog is not None and self.watchdog.on_command(self.server.get_time(), cmd):
+            self.say("info", "watchdog:resume", "effort commands resumed: hold released")
         if self.mode == "lockstep":
             self._advance()
 
@@ -126,25 +137,47 @@ class PyBulletBridge(Node):
             self.paused = True
         if not self.paused:
             full = np.zeros(self.model.get_nr_of_degrees_of_freedom())
-            full[self._order] = self._cmd
+            full[self._order] = self._watched_command()
             self.model.set_joint_torque_command(full)
             for _ in range(self.steps_per_tick):
-                if self.gravity_model is not None:
+                if self.hw_gravity:
                     self._update_gravity()
                 self.server.step()
         self._publish_state()
 
-    def _update_gravity(self) -> None:
-        gm = self.gravity_model
-        q, v = self.model.get_joint_positions(), self.model.get_joint_velocities()
+    def _watched_command(self) -> np.ndarray:
+        """The last command, or the hold once no command came for ``command_timeout`` (simulated) seconds."""
+        wd = self.watchdog
+        if wd is None:
+            return self._cmd
+        t = self.server.get_time()
+        if not wd.expired(t):
+            return self._cmd
+        if not wd.holding:
+            silence = wd.silence(t)
+            self.say("warning", "watchdog:hold", "no effort command yet: holding (gravity + damping)" if silence is None
+                     else f"no effort command for {silence * 1e3:.0f} ms (command_timeout "
+                          f"{self.command_timeout * 1e3:.0f} ms): holding (gravity + damping)")
+        q, v = self._model_state()
+        return wd.hold(t, q, v)
+
+    def _model_state(self):
+        """Copy the simulated state into the Pinocchio model; model-order q, v."""
+        rm = self.robot_model
+        q = self.model.get_joint_positions()[self._sim_of_model]
+        v = self.model.get_joint_velocities()[self._sim_of_model]
         if self.floating:
-            gm.set_robot_state(self.model.get_world_to_base_transform(), q, self.model.get_base_velocity(), v,
+            rm.set_robot_state(self.model.get_world_to_base_transform(), q, self.model.get_base_velocity(), v,
                                self.model.get_gravity())
         else:
-            gm.set_robot_state(q, v)
-        # names: the bridge model and Pinocchio may order joints differently
-        g = dict(zip(gm.get_joint_names(), gm.get_joint_gravity_torques()))
-        self.model.set_joint_gravity_torques([g[n] for n in self.model.get_joint_names()])
+            rm.set_robot_state(q, v)
+        return q, v
+
+    def _update_gravity(self) -> None:
+        self._model_state()
+        g = np.zeros(len(self._sim_of_model))
+        g[self._sim_of_model] = self.robot_model.get_joint_gravity_torques()  # model order -> simulator order
+        self.model.set_joint_gravity_torques(g)
 
     def _tick(self) -> None:
         self._advance()

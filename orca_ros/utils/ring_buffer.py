@@ -56,3 +56,13 @@ class RingBuffer:
 
     def max(self, default: float = 0.0) -> float:
         return float(self._data[:self._count].max()) if self._count else default
+
+    def latest(self, k: int) -> np.ndarray:
+        """The last ``k`` samples (fewer if fewer are held), oldest first (a copy)."""
+        k = max(0, min(int(k), self._count))
+        if k == 0:
+            return np.zeros(0)
+        i, cap = self._next, self._data.shape[0]
+        if k <= i:
+            return self._data[i - k:i].copy()
+        return np.concatenate((self._data[cap - (k - i):], self._data[:i]))

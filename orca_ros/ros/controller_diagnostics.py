@@ -1,0 +1,84 @@
+"""The controller node's ``/diagnostics`` (mixed into the node): level and reason from :mod:`.health`, plus the
+numbers a user asks for first (solver status and time, loop period quantiles and jitter, RSS, active tasks).
+
+Parameters: ``diagnostics_rate`` [5 Hz]; ``overrun_factor`` [1.5]: a loop period above this many nominal
+periods counts as an overrun (not judged in lockstep, where the simulator sets the pace);
+``error_warn_threshold`` [0.01 m] and ``error_warn_time`` [2 s]: a Cartesian task further than this from its
+target for longer is reported (WARN).
+"""
+from __future__ import annotations
+
+import numpy as np
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+
+from .common import DEFAULT_QOS, param
+from .health import TaskErrorWatch, assess
+
+_LEVEL = {0: DiagnosticStatus.OK, 1: DiagnosticStatus.WARN, 2: DiagnosticStatus.ERROR}
+
+
+class ControllerDiagnostics:
+    def setup_diagnostics(self, rate: float) -> None:
+        self.overrun_factor = float(param(self, "overrun_factor", 1.5))
+        self.error_watch = TaskErrorWatch(float(param(self, "error_warn_threshold", 0.01)),
+                                          float(param(self, "error_warn_time", 2.0)))
+        self._diag_marks = (0, 0, 0)  # cycles, QP failures, dropped levels at the previous report
+        self.pub_diag = self.create_publisher(DiagnosticArray, "/diagnostics", DEFAULT_QOS)
+        self.diagnostic_level = DiagnosticStatus.WARN
+        if rate > 0:
+            self.create_timer(1.0 / rate, self._publish_diagnostics)
+
+    def loop_statistics(self):
+        """Solve times and loop periods over the last ``statistics_window`` cycles."""
+        sol, per = self.solve_times, self.loop_periods
+        jitter = np.abs(per.values() - self.period) if len(per) else np.zeros(1)
+        return {"solve_median_us": sol.quantile(0.5) * 1e6, "solve_p99_us": sol.quantile(0.99) * 1e6,
+                "solve_max_us": sol.max() * 1e6,
+                "period_mean_ms": per.mean() * 1e3, "period_median_ms": per.quantile(0.5) * 1e3,
+                "period_p99_ms": per.quantile(0.99) * 1e3, "period_p999_ms": per.quantile(0.999) * 1e3,
+                "period_max_ms": per.max() * 1e3, "cycles": sol.total,
+                "jitter_p99_ms": float(np.percentile(jitter, 99) * 1e3)}
+
+    def _publish_diagnostics(self) -> None:
+        cycles, fails, dropped = self.loop_periods.total, self.qp_failures, self.controller.dropped_levels
+        c0, f0, d0 = self._diag_marks
+        self._diag_marks = (cycles, fails, dropped)
+        level, message = assess(
+            have_state=self._have_state, safe_reason=self._safe_reason, safe_cause=self._safe_cause,
+            qp_failures=fails - f0, dropped_levels=dropped - d0, periods=self.loop_periods.latest(cycles - c0),
+            nominal_period=self.period, check_periods=self.trigger == "timer", overrun_factor=self.overrun_factor,
+            persistent_errors=self.error_watch.persistent(self._now()) if self._have_state else [])
+        st = DiagnosticStatus()
+        st.name = f"{self.get_name()}: whole-body controller"
+        st.hardware_id = self.robot.name
+        st.level, st.message = _LEVEL[level], message
+        self.diagnostic_level = st.level
+        stats = self.loop_statistics()
+        active = [n for n, t in self.setup.tasks.items() if t.is_computing()]
+        values = {"solver_status": self.controller.get_return_code().value, "solver": self.controller.solver.value,
+                  "solve_time_median_us": f"{stats['solve_median_us']:.1f}",
+                  "solve_time_p99_us": f"{stats['solve_p99_us']:.1f}",
+                  "loop_period_mean_ms": f"{stats['period_mean_ms']:.3f}",
+                  "loop_period_p99_ms": f"{stats['period_p99_ms']:.3f}",
+                  "loop_period_p999_ms": f"{stats['period_p999_ms']:.3f}",
+                  "loop_period_max_ms": f"{stats['period_max_ms']:.3f}",
+                  "loop_jitter_p99_ms": f"{stats['jitter_p99_ms']:.3f}",
+                  "cycles": str(stats["cycles"]), "qp_failures": str(fails), "dropped_levels": str(dropped),
+                  "rss_kb": str(_rss_kb()), "active_tasks": ",".join(active), "enabled": str(self._enabled)}
+        st.values = [KeyValue(key=k, value=v) for k, v in values.items()]
+        arr = DiagnosticArray()
+        arr.header.stamp = self.get_clock().now().to_msg()
+        arr.status = [st]
+        self.pub_diag.publish(arr)
+
+
+def _rss_kb() -> int:
+    """Resident set size of this process in kB (Linux; 0 elsewhere)."""
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1])
+    except OSError:
+        pass
+    return 0
