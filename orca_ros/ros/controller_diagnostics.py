@@ -1,12 +1,15 @@
 """The controller node's ``/diagnostics`` (mixed into the node): level and reason from :mod:`.health`, plus the
 numbers a user asks for first (solver status and time, loop period quantiles and jitter, RSS, active tasks).
 
-Parameters: ``diagnostics_rate`` [5 Hz]; ``overrun_factor`` [1.5]: a loop period above this many nominal
+A joint state older than ``state_timeout`` (0.5 s at least in lockstep) is an ERROR even when no cycle runs
+to notice it (lockstep with a dead simulator). Parameters: ``diagnostics_rate`` [5 Hz]; ``overrun_factor`` [1.5]: a loop period above this many nominal
 periods counts as an overrun (not judged in lockstep, where the simulator sets the pace);
 ``error_warn_threshold`` [0.01 m] and ``error_warn_time`` [2 s]: a Cartesian task further than this from its
 target for longer is reported (WARN).
 """
 from __future__ import annotations
+
+import time
 
 import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
@@ -43,8 +46,11 @@ class ControllerDiagnostics:
         cycles, fails, dropped = self.loop_periods.total, self.qp_failures, self.controller.dropped_levels
         c0, f0, d0 = self._diag_marks
         self._diag_marks = (cycles, fails, dropped)
+        # lockstep: a paused simulator re-announces its state every 50 ms, which is not a fault
+        timeout = self.state_timeout if self.trigger == "timer" else max(self.state_timeout, 0.5)
+        age = time.monotonic() - self._state_wall if self._have_state else 0.0
         level, message = assess(
-            have_state=self._have_state, safe_reason=self._safe_reason, safe_cause=self._safe_cause,
+            have_state=self._have_state, state_age=age, state_timeout=timeout, safe_reason=self._safe_reason, safe_cause=self._safe_cause,
             qp_failures=fails - f0, dropped_levels=dropped - d0, periods=self.loop_periods.latest(cycles - c0),
             nominal_period=self.period, check_periods=self.trigger == "timer", overrun_factor=self.overrun_factor,
             persistent_errors=self.error_watch.persistent(self._now()) if self._have_state else [])

@@ -67,7 +67,10 @@ class ControllerInterfaces:
                     raise ValueError(f"frame '{frame}' needs a joint state to be resolved")
                 self._apply_state()
                 T = self.robot.get_relative_transform(base, frame) @ T
-            task.servo_controller().set_desired(T)
+            elif self._have_state:
+                self._apply_state()
+            if not (self._have_state and self.smooth_cartesian_target(name, task, T)):
+                task.servo_controller().set_desired(T)
         except ValueError as exc:
             self.say("error", f"target:{name}", f"target for task '{name}' rejected: {exc}")
             return
@@ -93,6 +96,7 @@ class ControllerInterfaces:
                               src[0].angular.x, src[0].angular.y, src[0].angular.z)
             if not (np.all(np.isfinite(T)) and np.all(np.isfinite(vel)) and np.all(np.isfinite(acc))):
                 raise ValueError("NaN or infinite values")
+            self.stop_trajectory(name)  # a trajectory point already: as it is
             task.servo_controller().set_desired(T, vel, acc)
         except ValueError as exc:
             self.say("error", f"target:{name}", f"target point for task '{name}' rejected: {exc}")
@@ -124,7 +128,11 @@ class ControllerInterfaces:
             else:
                 if pos is None:
                     raise ValueError("a joint task needs 'position' values")
-                task.set_desired(pos, vel)
+                if not np.isfinite(pos).all() or (vel is not None and not np.isfinite(vel).all()):
+                    raise ValueError("NaN or infinite values")
+                if vel is not None or not (self._have_state and self.smooth_joint_target(name, pos)):
+                    self.stop_trajectory(name)
+                    task.set_desired(pos, vel)
         except ValueError as exc:
             self.say("error", f"target:{name}", f"target for task '{name}' rejected: {exc}")
             return
@@ -142,6 +150,7 @@ class ControllerInterfaces:
 
     def _hold_task(self, task) -> None:
         """Target := the current state (zero velocity), integrators cleared: the task stops pulling."""
+        self.stop_trajectory(task.name)
         if isinstance(task, CartesianTask):
             task.servo_controller().hold_current_pose()
             task.servo_controller().pid().reset()

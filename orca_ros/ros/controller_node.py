@@ -29,9 +29,10 @@ from .controller_diagnostics import ControllerDiagnostics
 from .controller_interfaces import ControllerInterfaces
 from .guarded_node import GuardedNode
 from .joint_state_input import JointStateInput, StateRejected
+from .target_smoothing import TargetSmoothing
 
 
-class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostics):
+class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostics, TargetSmoothing):
     def __init__(self, **kwargs):
         super().__init__("orca_controller", automatically_declare_parameters_from_overrides=True, **kwargs)
         cfg = {k: param(self, k, d) for k, d in (
@@ -94,6 +95,7 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
         self._computed_stamp = None
         if self.floating:
             self.create_subscription(Odometry, str(param(self, "odom_topic", "odom")), self._on_odom, STATE_QOS)
+        self.setup_trajectories(cfg["tasks"])
         self.setup_interfaces(float(param(self, "diagnostics_rate", 5.0)), float(param(self, "feedback_rate", 50.0)))
         if self.manage_gc:
             self.create_timer(float(param(self, "gc_period", 1.0)), self._collect_garbage)
@@ -194,6 +196,7 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
             self._publish_safe(t, "safe:disabled", "controller disabled (~/enable false)", level="info")
             return
         self.expire_targets(t)
+        self.advance_trajectories(t)
         t0 = time.perf_counter()
         try:
             ok = self.controller.update(t, dt)

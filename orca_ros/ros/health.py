@@ -36,13 +36,15 @@ class TaskErrorWatch:
         return [(n, self.norms.get(n, 0.0), t - t0) for n, t0 in self._since.items() if t - t0 > self.duration]
 
 
-def assess(*, have_state: bool, safe_reason: str | None, safe_cause: str | None, qp_failures: int,
+def assess(*, have_state: bool, state_age: float, state_timeout: float, safe_reason: str | None, safe_cause: str | None, qp_failures: int,
            dropped_levels: int, periods: np.ndarray, nominal_period: float, check_periods: bool,
            overrun_factor: float, persistent_errors) -> tuple[int, str]:
     """(level, message) for one report; the counters are those since the previous report."""
     errors, warns, infos = [], [], []
     if not have_state:
         warns.append("waiting for joint_states")
+    elif state_age > state_timeout and safe_cause != "safe:stale":
+        errors.append(f"joint state stale: none valid for {state_age:.2f} s")
     if safe_reason is not None:
         (infos if safe_cause == "safe:disabled" else errors).append(
             f"holding: {safe_reason}" if safe_cause == "safe:disabled" else f"safe command: {safe_reason}")

@@ -110,6 +110,17 @@ class Probe:
         self.robot = orca.RobotModel()
         self.robot.load_model_from_file(orca.default_urdf_path())
 
+    @staticmethod
+    def state_message(names, q, v):
+        """A sensor_msgs/JointState with these names, positions and velocities (no stamp)."""
+        from sensor_msgs.msg import JointState
+
+        m = JointState()
+        m.name = list(names)
+        m.position = [float(x) for x in q]
+        m.velocity = [float(x) for x in v]
+        return m
+
     def _spin(self):
         while not self._stop and self.context.ok():
             self.executor.spin_once(timeout_sec=0.05)

@@ -1,0 +1,82 @@
+"""New targets become jerk-limited trajectories (mixed into the controller node).
+
+Per task, parameters under ``tasks.<name>.trajectory``: ``enabled`` [true]; Cartesian tasks ``max_velocity``
+[0.25 m/s, 1.0 rad/s], ``max_acceleration`` [1.0 m/s^2, 3.0 rad/s^2], ``max_jerk`` [5 m/s^3, 15 rad/s^3]
+([linear, angular]); joint tasks ``max_velocity`` [half the URDF velocity limits], ``max_acceleration``
+[2 rad/s^2], ``max_jerk`` [20 rad/s^3] (one value or one per joint). A target on ``target_pose`` or a joint
+``target`` without velocities starts a trajectory from the current reference (or, when none runs, from the
+measured state); ``target_point`` and joint targets with velocities are trajectory points already and go to the
+servo as they are. Holding, resetting or expiring a target stops the trajectory.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..servo.target_trajectory import CartesianTrajectory, JointTrajectory
+from ..task import CartesianTask, JointAccelerationTask
+
+CARTESIAN_DEFAULTS = {"max_velocity": [0.25, 1.0], "max_acceleration": [1.0, 3.0], "max_jerk": [5.0, 15.0]}
+
+
+class TargetSmoothing:
+    def setup_trajectories(self, task_config: dict) -> None:
+        self.trajectories: dict = {}
+        self._running: set[str] = set()
+        for name, task in self.setup.tasks.items():
+            cfg = dict((task_config.get(name) or {}).get("trajectory") or {})
+            if not cfg.pop("enabled", True):
+                continue
+            if isinstance(task, CartesianTask):
+                lim = {k: cfg.get(k, d) for k, d in CARTESIAN_DEFAULTS.items()}
+                self.trajectories[name] = CartesianTrajectory(**lim)
+            elif isinstance(task, JointAccelerationTask):
+                vel = self.robot.get_joint_velocity_limits()
+                vel = np.where(np.isfinite(vel) & (vel > 0), 0.5 * vel, 1.0)
+                self.trajectories[name] = JointTrajectory(self.n, cfg.get("max_velocity", vel),
+                                                          cfg.get("max_acceleration", 2.0), cfg.get("max_jerk", 20.0))
+
+    def smooth_cartesian_target(self, name: str, task, target: np.ndarray) -> bool:
+        """Start a trajectory to ``target`` (base frame); False when this task takes targets as steps."""
+        gen = self.trajectories.get(name)
+        if gen is None:
+            return False
+        t = self._now()
+        if name in self._running:
+            pose, twist, acc = gen.sample(t)
+        else:
+            servo = task.servo_controller()
+            pose, twist, acc = servo.get_current_cartesian_pose(), servo.get_current_cartesian_velocity(), np.zeros(6)
+        gen.start(t, pose, twist, acc, target)
+        self._running.add(name)
+        return True
+
+    def smooth_joint_target(self, name: str, target: np.ndarray) -> bool:
+        gen = self.trajectories.get(name)
+        if gen is None:
+            return False
+        t = self._now()
+        if name in self._running:
+            q, qd, qdd = gen.sample(t)
+        else:
+            q, qd, qdd = self._q.copy(), self._v.copy(), np.zeros(self.n)
+        gen.start(t, q, qd, qdd, target)
+        self._running.add(name)
+        return True
+
+    def stop_trajectory(self, name: str) -> None:
+        self._running.discard(name)
+
+    def advance_trajectories(self, t: float) -> None:
+        """Before each update: every running trajectory hands its sample at t to its task's servo."""
+        if not self._running:
+            return
+        for name in list(self._running):
+            task = self.setup.tasks[name]
+            gen = self.trajectories[name]
+            ref = gen.sample(t)
+            if isinstance(task, CartesianTask):
+                task.servo_controller().set_desired(*ref)
+            else:
+                task.set_desired(*ref)
+            if gen.finished(t):
+                self._running.discard(name)

@@ -1,0 +1,155 @@
+"""Signals, a killed controller, and diagnostics that tell the truth (real processes on a private domain).
+
+Time is counted in simulated steps (lockstep, or the free-running bridge's one step per tick), never in
+wall-clock limits, so these hold on a busy machine.
+"""
+import signal
+import time
+
+import numpy as np
+import pytest
+
+pytest.importorskip("rclpy")
+
+from orca_ros.ros.launch_free import Probe, Procs, free_domain_id  # noqa: E402
+
+import orca_ros as orca  # noqa: E402
+
+Q0 = [0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]
+CFG = orca.share_path("config", "lwr_controller.yaml")
+
+
+def gravity(q):
+    robot = orca.RobotModel()
+    robot.load_model_from_file(orca.default_urdf_path())
+    robot.set_robot_state(np.asarray(q), np.zeros(7))
+    return robot.get_joint_gravity_torques()
+
+
+def start(tmp_path, mode, *controller_args, bridge_args=()):
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    procs.start("orca_ros.ros.pybullet_bridge", "-p", f"mode:={mode}", "-p", f"initial_positions:={Q0}",
+                *bridge_args, name="bridge")
+    procs.start("orca_ros.ros.controller_node", "--params-file", CFG,
+                "-p", f"trigger:={'joint_state' if mode == 'lockstep' else 'timer'}", *controller_args,
+                name="controller")
+    return procs, Probe(domain)
+
+
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
+def test_signal_sends_the_hold_and_exits_cleanly(tmp_path, sig):
+    procs, probe = start(tmp_path, "lockstep")
+    try:
+        probe.wait_for(lambda: probe.sim_time() > 0.8, 60, "the controller driving the bridge")
+        target = probe.ee_pose()
+        target[:3, 3] += [0.1, -0.1, 0.05]
+        probe.send_target("ee", target)  # moving: the last tracking command is far from the hold
+        probe.wait_sim(0.15)
+        ctrl = procs.procs[1][0]
+        ctrl.send_signal(sig)
+        assert ctrl.wait(timeout=30) == 0
+        log = procs.log("controller")
+        assert "Traceback" not in log and "FATAL" not in log, log[-3000:]
+        assert "shutdown: hold command sent" in log
+        probe.wait_for(lambda: len(probe.states) > 0, 5, "states")
+        time.sleep(0.5)  # let the last messages in flight arrive
+        last = probe.commands[-1]
+        # the hold is gravity at the last state the controller saw (one of the two last published)
+        diffs = [np.abs(last - gravity(s[1])).max() for s in probe.states[-2:]]
+        assert min(diffs) < 1.0, f"last command {last} is {min(diffs):.2f} Nm from the hold"
+        moving = np.abs(probe.commands[-3] - gravity(probe.states[-3][1])).max()
+        assert moving > 1.0, "the arm was not moving: this test would not tell the hold from the last command"
+    finally:
+        probe.close()
+        procs.stop()
+
+
+def test_killed_controller_bridge_holds(tmp_path):
+    procs, probe = start(tmp_path, "free_running", bridge_args=("-p", "rate:=1000.0", "-p", "command_timeout:=0.02"))
+    try:
+        probe.wait_for(lambda: len(probe.commands) > 1500, 120, "the controller running")
+        target = probe.ee_pose()
+        target[:3, 3] += [0.0, 0.3, -0.1]
+        probe.send_target("ee", target)
+
+        def ee_speed():
+            s = probe.states[-11:]
+            if len(s) < 11:
+                return 0.0
+            return np.linalg.norm(probe.ee_pose(s[-1][1])[:3, 3] - probe.ee_pose(s[0][1])[:3, 3]) / 0.010
+
+        # killed at cruise speed along the trajectory to the target (0.25 m/s by default)
+        probe.wait_for(lambda: ee_speed() > 0.2, 60, "the arm moving towards the target")
+        procs.procs[1][0].send_signal(signal.SIGKILL)
+        n0 = len(probe.states)
+        at_kill = probe.ee_pose(probe.states[n0 - 1][1])
+        # 2 s of simulated time: the free-running bridge advances one 1 ms step per published state
+        probe.wait_for(lambda: len(probe.states) >= n0 + 2000, 120, "2 s of simulation after the kill")
+        ee = np.array([probe.ee_pose(s[1])[:3, 3] for s in probe.states[n0:n0 + 2000]])
+        moved = np.linalg.norm(ee - at_kill[:3, 3], axis=1).max()
+        assert moved < 0.05, f"end effector moved {moved * 1e3:.0f} mm in the 2 s after the controller died"
+        assert np.abs(probe.states[n0 + 1999][2]).max() < 0.05, "not at rest"
+        log = procs.log("bridge")
+        assert "holding (gravity + damping)" in log and "no effort command for" in log
+        assert "Traceback" not in log
+    finally:
+        probe.close()
+        procs.stop()
+
+
+def _level_after_fault(probe, reports=2, timeout=30.0):
+    """Level and message of the ``reports``-th diagnostics report received from now on."""
+    seen = [probe.diagnostics]  # the probe replaces this dict on every report
+
+    def grab():
+        d = probe.diagnostics
+        if d is not seen[-1]:
+            seen.append(d)
+        return len(seen) > reports
+
+    probe.wait_for(grab, timeout, "diagnostics reports")
+    return seen[reports].get("_level"), seen[reports].get("_message")
+
+
+def test_diagnostics_error_on_failing_qp(tmp_path):
+    # 0.1 Nm torque limits cannot hold the arm against gravity: every QP is infeasible from the start
+    procs, probe = start(tmp_path, "lockstep", "-p", "constraints.torque_limit.max:=0.1")
+    try:
+        probe.wait_for(lambda: len(probe.commands) > 50, 60, "commands")
+        level, message = _level_after_fault(probe)
+        assert level == 2 and "no QP solution" in message, message
+        cmds = np.array(probe.commands)
+        assert np.isfinite(cmds).all() and (np.abs(cmds) <= 176.0).all()
+    finally:
+        probe.close()
+        procs.stop()
+
+
+def test_diagnostics_ok_then_error_on_stale_state_then_warn_on_overruns(tmp_path):
+    procs, probe = start(tmp_path, "free_running", "-p", "update_rate:=500.0", "-p", "state_timeout:=0.1",
+                         bridge_args=("-p", "rate:=500.0",))
+    try:
+        probe.wait_for(lambda: len(probe.commands) > 800, 120, "the controller running")
+        probe.wait_for(lambda: probe.diagnostics.get("_level") == 0, 60, "an OK report while healthy")
+        procs.procs[0][0].send_signal(signal.SIGKILL)  # the bridge dies: no more joint states
+        level, message = _level_after_fault(probe)
+        assert level == 2 and "stale" in message, message
+        n = len(probe.commands)
+        probe.wait_for(lambda: len(probe.commands) > n + 50, 30, "safe commands")
+        assert np.isfinite(np.array(probe.commands[n:])).all()
+        assert procs.procs[1][0].poll() is None
+    finally:
+        probe.close()
+        procs.stop()
+    # a nominal rate no machine reaches in Python: every period overruns
+    (tmp_path / "fast").mkdir()
+    procs, probe = start(tmp_path / "fast", "free_running", "-p", "update_rate:=20000.0",
+                         bridge_args=("-p", "rate:=500.0",))
+    try:
+        probe.wait_for(lambda: len(probe.commands) > 200, 120, "the controller running")
+        level, message = _level_after_fault(probe)
+        assert level >= 1 and "loop overruns" in message, message
+    finally:
+        probe.close()
+        procs.stop()
