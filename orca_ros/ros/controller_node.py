@@ -29,10 +29,12 @@ from .controller_diagnostics import ControllerDiagnostics
 from .controller_interfaces import ControllerInterfaces
 from .guarded_node import GuardedNode
 from .joint_state_input import JointStateInput, StateRejected
+from .live_parameters import LiveParameters
 from .target_smoothing import TargetSmoothing
 
 
-class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostics, TargetSmoothing):
+class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostics, TargetSmoothing,
+                         LiveParameters):
     def __init__(self, **kwargs):
         super().__init__("orca_controller", automatically_declare_parameters_from_overrides=True, **kwargs)
         cfg = {k: param(self, k, d) for k, d in (
@@ -53,9 +55,9 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
         self.safe = SafeCommand(self.robot, setup.gravity_compensated_by_hardware,
                                 float(param(self, "safe_damping", 10.0)), float(param(self, "safe_ramp", 0.2)))
         self._wire_of_model = setup.model_index  # model joint k -> wire slot
+        self._velocity_factor = float(param(self, "velocity_factor", 3.0))
         self._input = JointStateInput(self.robot, setup.joints, setup.model_index,
-                                      float(param(self, "position_margin", 0.1)),
-                                      float(param(self, "velocity_factor", 3.0)))
+                                      float(param(self, "position_margin", 0.1)), self._velocity_factor)
         self._q = np.zeros(self.n)
         self._v = np.zeros(self.n)
         self._q_in = np.zeros(self.n)
@@ -103,6 +105,7 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
             self.create_timer(self.period, self._control_step)
         elif self.trigger != "joint_state":
             raise ValueError(f"trigger must be 'timer' or 'joint_state', got '{self.trigger}'")
+        self.setup_live_parameters()
         self.get_logger().info(f"orca_controller: {self.n} joints, {self.update_rate:.0f} Hz ({self.trigger}), "
                                f"solver {self.controller.solver.value}, tasks {list(setup.tasks)}")
 
