@@ -1,0 +1,36 @@
+"""The run-time parameter schema: validation reasons, and the README's table generated from it."""
+import os
+
+import pytest
+
+from orca_ros.ros.parameter_schema import ParamRejected, markdown, validate
+
+TASKS, CONSTRAINTS = ("ee", "posture"), ("torque_limit",)
+
+
+@pytest.mark.parametrize("name,value,reason", [
+    ("solver", "banana", "read-only at run time"),
+    ("update_rate", 0.0, "read-only at run time"),
+    ("tasks.ee.type", "com", "read-only at run time"),
+    ("tasks.nope.kp", [1.0], "not a parameter"),
+    ("tasks.ee.kp", [-1.0], "outside [0, 1e+06]"),
+    ("tasks.ee.kp", ["a"], "expected a number"),
+    ("tasks.ee.weight", [1.0, 2.0], "must be one number"),
+    ("tasks.ee.active", 1, "must be true or false"),
+    ("state_timeout", float("inf"), "outside"),
+])
+def test_refusals_say_why(name, value, reason):
+    with pytest.raises(ParamRejected, match=reason.replace("[", r"\[").replace("+", r"\+")):
+        validate(name, value, TASKS, CONSTRAINTS)
+
+
+def test_live_values_are_normalised():
+    assert validate("tasks.ee.kp", 50, TASKS, CONSTRAINTS)[2] == [50.0]
+    assert validate("tasks.posture.weight", 2, TASKS, CONSTRAINTS)[2] == 2.0
+    assert validate("constraints.torque_limit.active", False, TASKS, CONSTRAINTS)[1] == {"constraint": "torque_limit"}
+
+
+def test_readme_table_is_generated_from_the_schema():
+    readme = os.path.join(os.path.dirname(__file__), "..", "README.md")
+    with open(readme) as fh:
+        assert markdown() in fh.read(), "README parameter table out of date: python -m orca_ros.ros.parameter_schema"
