@@ -35,13 +35,6 @@ def _state(names=NAMES, q=Q0, v=np.zeros(7)):
     return m
 
 
-def _wait_log(procs, name, text, timeout=10.0):
-    t0 = time.time()
-    while time.time() - t0 < timeout:
-        if text in procs.log(name):
-            return
-        time.sleep(0.05)
-    raise AssertionError(f"no log line containing '{text}' from {name}:\n{procs.log(name)[-3000:]}")
 
 
 def test_controller_survives_bad_states_and_targets(tmp_path):
@@ -52,7 +45,7 @@ def test_controller_survives_bad_states_and_targets(tmp_path):
     probe = Probe(domain)
     try:
         pub = probe.pub_state
-        _wait_log(procs, "controller", "orca_controller: 7 joints")
+        procs.wait_log("controller", "orca_controller: 7 joints")
         time.sleep(1.0)
         assert probe.commands == [], "no command may be sent before the first joint state"
         # valid states, with an extra joint the controller does not know: ignored
@@ -81,7 +74,7 @@ def test_controller_survives_bad_states_and_targets(tmp_path):
         T = np.eye(4)
         T[:3, 3] = [0.4, 0.0, 0.5]
         probe.send_target("ee", T, frame_id="no_such_link")
-        _wait_log(procs, "controller", "unknown frame 'no_such_link'")
+        procs.wait_log("controller", "unknown frame 'no_such_link'")
         during = np.array(probe.commands[n0:])
         assert len(during) > 20 and np.all(np.isfinite(during))
         # the safe command is gravity (+ no damping: velocity unknown while stale): the arm is held
@@ -116,8 +109,8 @@ def test_bridge_rejects_bad_commands(tmp_path):
             for _ in range(5):
                 pub.publish(m)
                 time.sleep(0.05)
-        _wait_log(procs, "bridge", "rejected effort command (2 values for 7 joints)")
-        _wait_log(procs, "bridge", "rejected effort command (non-finite values)")
+        procs.wait_log("bridge", "rejected effort command (2 values for 7 joints)")
+        procs.wait_log("bridge", "rejected effort command (non-finite values)")
         n = len(probe.states)
         probe.wait_for(lambda: len(probe.states) > n + 20, 30, "the bridge to keep publishing")
         # with emulated gravity compensation and zero command the arm stays where it is

@@ -38,13 +38,6 @@ def arm(tmp_path_factory):
         procs.stop()
 
 
-def wait_log(procs, name, text, timeout=30.0):
-    t0 = time.time()
-    while time.time() - t0 < timeout:
-        if text in procs.log(name):
-            return
-        time.sleep(0.05)
-    raise AssertionError(f"no log line containing '{text}' from {name}:\n{procs.log(name)[-3000:]}")
 
 
 def reach(probe, offset, sim_seconds=3.0, frame_id="", tol=2e-3):
@@ -118,7 +111,7 @@ def test_bad_joint_states(arm, case, cause):
     n0 = len(probe.commands)
     for _ in range(200):  # a burst: one line, not 200
         probe.pub_state.publish(bad_state(names, q, v))
-    wait_log(procs, "controller", cause)
+    procs.wait_log("controller", cause)
     time.sleep(0.3)
     assert procs.log("controller").count(cause) == 1, f"'{cause}' logged more than once for one burst"
     probe.wait_sim(0.2)  # the lockstep loop never stalled on the bad states
@@ -145,7 +138,7 @@ def test_target_flood_and_nan_targets(arm):
     nan.pose.orientation.w = 1.0
     for _ in range(50):
         pub.publish(nan)
-    wait_log(procs, "controller", "target for task 'ee' rejected: pose contains NaN")
+    procs.wait_log("controller", "target for task 'ee' rejected: pose contains NaN")
     assert procs.log("controller").count("pose contains NaN") == 1
     probe.wait_sim(0.2)
     commands_sane(probe, n0)

@@ -69,7 +69,7 @@ class ControllerInterfaces:
                 T = self.robot.get_relative_transform(base, frame) @ T
             elif self._have_state:
                 self._apply_state()
-            if not (self._have_state and self.smooth_cartesian_target(name, task, T)):
+            if not (self._have_state and self.smooth_target(name, T)):
                 task.servo_controller().set_desired(T)
         except ValueError as exc:
             self.say("error", f"target:{name}", f"target for task '{name}' rejected: {exc}")
@@ -130,7 +130,7 @@ class ControllerInterfaces:
                     raise ValueError("a joint task needs 'position' values")
                 if not np.isfinite(pos).all() or (vel is not None and not np.isfinite(vel).all()):
                     raise ValueError("NaN or infinite values")
-                if vel is not None or not (self._have_state and self.smooth_joint_target(name, pos)):
+                if vel is not None or not (self._have_state and self.smooth_target(name, pos)):
                     self.stop_trajectory(name)
                     task.set_desired(pos, vel)
         except ValueError as exc:

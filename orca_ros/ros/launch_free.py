@@ -44,6 +44,15 @@ class Procs:
         with open(os.path.join(self.tmp, f"{name}.log")) as fh:
             return fh.read()
 
+    def wait_log(self, name: str, text: str, timeout: float = 30.0) -> None:
+        """Wait until ``name``'s log holds ``text`` (a condition, not a duration)."""
+        t0 = time.time()
+        while time.time() - t0 < timeout:
+            if text in self.log(name):
+                return
+            time.sleep(0.05)
+        raise AssertionError(f"no log line containing '{text}' from {name}:\n{self.log(name)[-3000:]}")
+
     def stop(self):
         for p, log, _ in self.procs:
             if p.poll() is None:

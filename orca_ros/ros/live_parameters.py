@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 from rcl_interfaces.msg import SetParametersResult
 
-from ..servo.target_trajectory import _limits
+from ..servo.target_trajectory import checked_limits
 from ..task import CartesianTask
 from .joint_state_input import JointStateInput
 from .parameter_schema import ParamRejected, validate
@@ -41,7 +41,7 @@ class LiveParameters:
                 if gen is None:
                     raise ParamRejected(f"'{name}': trajectories are disabled for this task")
                 attr = {"max_velocity": "vmax", "max_acceleration": "amax", "max_jerk": "jmax"}[key]
-                lim = _limits(value, getattr(gen, attr).size, f"{name}")
+                lim = checked_limits(value, getattr(gen, attr).size, f"{name}")
                 return lambda: setattr(gen, attr, lim)
             if key in ("kp", "kd", "ki"):
                 pid = task.servo_controller().pid() if isinstance(task, CartesianTask) else task.pid()

@@ -35,31 +35,21 @@ class TargetSmoothing:
                 self.trajectories[name] = JointTrajectory(self.n, cfg.get("max_velocity", vel),
                                                           cfg.get("max_acceleration", 2.0), cfg.get("max_jerk", 20.0))
 
-    def smooth_cartesian_target(self, name: str, task, target: np.ndarray) -> bool:
-        """Start a trajectory to ``target`` (base frame); False when this task takes targets as steps."""
+    def smooth_target(self, name: str, target) -> bool:
+        """Start a trajectory to ``target`` (4x4 pose in the base frame, or joint positions); False when this
+        task takes targets as steps. Starts from the running reference, else from the measured state."""
         gen = self.trajectories.get(name)
         if gen is None:
             return False
         t = self._now()
         if name in self._running:
-            pose, twist, acc = gen.sample(t)
+            start = gen.sample(t)
+        elif isinstance(gen, CartesianTrajectory):
+            servo = self.setup.tasks[name].servo_controller()
+            start = servo.get_current_cartesian_pose(), servo.get_current_cartesian_velocity(), np.zeros(6)
         else:
-            servo = task.servo_controller()
-            pose, twist, acc = servo.get_current_cartesian_pose(), servo.get_current_cartesian_velocity(), np.zeros(6)
-        gen.start(t, pose, twist, acc, target)
-        self._running.add(name)
-        return True
-
-    def smooth_joint_target(self, name: str, target: np.ndarray) -> bool:
-        gen = self.trajectories.get(name)
-        if gen is None:
-            return False
-        t = self._now()
-        if name in self._running:
-            q, qd, qdd = gen.sample(t)
-        else:
-            q, qd, qdd = self._q.copy(), self._v.copy(), np.zeros(self.n)
-        gen.start(t, q, qd, qdd, target)
+            start = self._q.copy(), self._v.copy(), np.zeros(self.n)
+        gen.start(t, *start, target)
         self._running.add(name)
         return True
 

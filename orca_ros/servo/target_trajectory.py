@@ -19,7 +19,7 @@ import pinocchio as pin
 from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
 
 
-def _limits(value, n: int, what: str) -> np.ndarray:
+def checked_limits(value, n: int, what: str) -> np.ndarray:
     v = np.asarray(value, dtype=float).reshape(-1)
     if v.size == 1:
         v = np.full(n, float(v[0]))
@@ -66,9 +66,9 @@ class _Profile:
 
 class JointTrajectory:
     def __init__(self, n: int, max_velocity, max_acceleration, max_jerk):
-        self.vmax = _limits(max_velocity, n, "max_velocity")
-        self.amax = _limits(max_acceleration, n, "max_acceleration")
-        self.jmax = _limits(max_jerk, n, "max_jerk")
+        self.vmax = checked_limits(max_velocity, n, "max_velocity")
+        self.amax = checked_limits(max_acceleration, n, "max_acceleration")
+        self.jmax = checked_limits(max_jerk, n, "max_jerk")
         self._p = _Profile(n)
         self.active = False
 
@@ -88,9 +88,9 @@ class JointTrajectory:
 class CartesianTrajectory:
     def __init__(self, max_velocity, max_acceleration, max_jerk):
         """Limits as [linear, angular] pairs (m/s, rad/s; m/s^2, rad/s^2; m/s^3, rad/s^3)."""
-        self.vmax = _limits(max_velocity, 2, "max_velocity [linear, angular]")
-        self.amax = _limits(max_acceleration, 2, "max_acceleration [linear, angular]")
-        self.jmax = _limits(max_jerk, 2, "max_jerk [linear, angular]")
+        self.vmax = checked_limits(max_velocity, 2, "max_velocity [linear, angular]")
+        self.amax = checked_limits(max_acceleration, 2, "max_acceleration [linear, angular]")
+        self.jmax = checked_limits(max_jerk, 2, "max_jerk [linear, angular]")
         self._lin = _Profile(3, Synchronization.Phase)
         self._ang = _Profile(1)
         self._R0 = np.eye(3)
