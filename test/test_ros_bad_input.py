@@ -16,17 +16,6 @@ NAMES = [f"joint_{i}" for i in range(7)]
 Q0 = np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0])
 
 
-def _publish_until(pub, make, predicate, what, timeout=60.0):
-    """Publish at ~200 Hz until ``predicate()`` holds (discovery and a loaded machine make any fixed duration
-    a guess)."""
-    t0 = time.time()
-    while not predicate():
-        if time.time() - t0 > timeout:
-            raise AssertionError(f"timed out after {timeout} s waiting for {what}")
-        pub.publish(make())
-        time.sleep(0.005)
-
-
 def _state(names=NAMES, q=Q0, v=np.zeros(7)):
     m = JointState()
     m.name = list(names)
@@ -45,6 +34,9 @@ def test_controller_survives_bad_states_and_targets(tmp_path):
     probe = Probe(domain)
     try:
         pub = probe.pub_state
+
+        def until(make, predicate, what):
+            probe.publish_until(lambda: pub.publish(make()), predicate, what, period=0.005)
         procs.wait_log("controller", "orca_controller: 7 joints")
         time.sleep(1.0)
         assert probe.commands == [], "no command may be sent before the first joint state"
@@ -55,28 +47,29 @@ def test_controller_survives_bad_states_and_targets(tmp_path):
         robot.set_robot_state(Q0, np.zeros(7))
         g = robot.get_joint_gravity_torques()
         # at rest, holding its pose, the arm needs its gravity torques (once the ramps are done)
-        _publish_until(pub, lambda: _state(extra, np.append(Q0, 0.3), np.zeros(8)),
-                       lambda: len(probe.commands) > 50 and np.abs(probe.commands[-1] - g).max() < 0.5,
-                       "commands holding the arm")
+        until(lambda: _state(extra, np.append(Q0, 0.3), np.zeros(8)),
+              lambda: len(probe.commands) > 50 and np.abs(probe.commands[-1] - g).max() < 0.5,
+              "commands holding the arm")
         assert "first joint state received" in procs.log("controller")
 
         # NaN in the state: rejected, and once the good state is too old the safe command takes over
         nan_q = Q0.copy()
         nan_q[3] = np.nan
         n0 = len(probe.commands)
-        _publish_until(pub, lambda: _state(q=nan_q), lambda: "safe command: joint_states stale" in
-                       procs.log("controller"), "the stale-state fallback")
+        until(lambda: _state(q=nan_q), lambda: "safe command: joint_states stale" in procs.log("controller"),
+              "the stale-state fallback")
         assert "joint_states rejected: NaN or infinite position/velocity of ['joint_3']" in procs.log("controller")
         # a missing joint
-        _publish_until(pub, lambda: _state(NAMES[:-1], Q0[:-1], np.zeros(6)),
-                       lambda: "missing joints ['joint_6']" in procs.log("controller"), "the missing-joint line")
+        until(lambda: _state(NAMES[:-1], Q0[:-1], np.zeros(6)),
+              lambda: "missing joints ['joint_6']" in procs.log("controller"), "the missing-joint line")
         # a target in an unknown frame
         T = np.eye(4)
         T[:3, 3] = [0.4, 0.0, 0.5]
-        probe.send_target("ee", T, frame_id="no_such_link")
-        procs.wait_log("controller", "unknown frame 'no_such_link'")
+        probe.send_target("ee", T, frame_id="no_such_link",
+                          until=lambda: "unknown frame 'no_such_link'" in procs.log("controller"))
+        probe.wait_for(lambda: len(probe.commands) > n0 + 20, 30, "commands while the state is bad")
         during = np.array(probe.commands[n0:])
-        assert len(during) > 20 and np.all(np.isfinite(during))
+        assert np.all(np.isfinite(during))
         # the safe command is gravity (+ no damping: velocity unknown while stale): the arm is held
         np.testing.assert_allclose(during[-1], g, atol=0.5)
         # states stop altogether: still finite commands, and the node stays up
@@ -84,9 +77,9 @@ def test_controller_survives_bad_states_and_targets(tmp_path):
         probe.wait_for(lambda: len(probe.commands) > n1 + 20, 30, "commands without states")
         assert np.all(np.isfinite(np.array(probe.commands[n1:])))
         # good data again: control resumes
-        _publish_until(pub, lambda: _state(), lambda: "recovered from" in procs.log("controller"), "recovery")
-        _publish_until(pub, lambda: _state(), lambda: np.abs(probe.commands[-1] - g).max() < 0.5,
-                       "the gravity hold after recovery")
+        until(lambda: _state(), lambda: "recovered from" in procs.log("controller"), "recovery")
+        until(lambda: _state(), lambda: np.abs(probe.commands[-1] - g).max() < 0.5,
+              "the gravity hold after recovery")
         assert procs.procs[0][0].poll() is None, "the controller must still be running"
         assert "Traceback" not in procs.log("controller")
     finally:
@@ -119,3 +112,31 @@ def test_bridge_rejects_bad_commands(tmp_path):
     finally:
         probe.close()
         procs.stop()
+
+
+def test_lockstep_controller_answers_a_repeated_state_once_more(tmp_path):
+    """A lockstep simulator whose command was lost (sent before discovery matched it) announces the same state
+    again: the controller sends the command of that instant again instead of waiting forever (it does not
+    compute a second step)."""
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    procs.start("orca_ros.ros.controller_node", "--params-file", orca.share_path("config", "lwr_controller.yaml"),
+                "-p", "trigger:=joint_state", name="controller")
+    probe = Probe(domain)
+    try:
+        msg = _state()
+        msg.header.stamp.sec = 3
+        probe.publish_until(lambda: probe.pub_state.publish(msg), lambda: len(probe.commands) >= 5,
+                            "commands answering the same state", period=0.05)
+        cmds = np.array(probe.commands)
+        np.testing.assert_array_equal(cmds, np.repeat(cmds[:1], len(cmds), axis=0))
+        assert np.all(np.isfinite(cmds))
+        # a new instant is computed (and only then)
+        msg.header.stamp.sec = 4
+        n = len(probe.commands)
+        probe.publish_until(lambda: probe.pub_state.publish(msg), lambda: len(probe.commands) > n, "a new command")
+        assert "Traceback" not in procs.log("controller")
+    finally:
+        probe.close()
+        procs.stop()
+

@@ -47,7 +47,7 @@ def reach(probe, offset, sim_seconds=3.0, frame_id="", tol=2e-3):
     msg_pose = target
     if frame_id and frame_id != "world":  # the pose as seen from that link, resolved by the node on reception
         msg_pose = np.linalg.inv(probe.robot.get_frame_pose(frame_id)) @ target
-    probe.send_target("ee", msg_pose, frame_id=frame_id)
+    probe.send_target("ee", msg_pose, frame_id=frame_id, until=probe.moved_towards(target))
     t_end = probe.sim_time() + sim_seconds
     probe.wait_for(lambda: probe.sim_time() >= t_end or
                    np.linalg.norm(probe.ee_pose()[:3, 3] - target[:3, 3]) < tol * 0.5, 120, "the target")
@@ -152,7 +152,7 @@ def test_unreachable_then_reachable_target(arm):
     far = probe.ee_pose()
     far[:3, 3] += [2.0, 0.0, 0.0]
     n0 = len(probe.commands)
-    probe.send_target("ee", far)
+    probe.send_target("ee", far, until=probe.moved_towards(far))
     probe.wait_sim(3.0)
     commands_sane(probe, n0)
     # back to a reachable pose near the start: reached although the arm spent 3 s stretched at its limits
@@ -160,7 +160,7 @@ def test_unreachable_then_reachable_target(arm):
     probe.robot.set_robot_state(np.array(Q0), np.zeros(7))
     target = probe.robot.get_frame_pose("link_7")
     target[:3, 3] += [0.05, -0.05, 0.05]
-    probe.send_target("ee", target)
+    probe.send_target("ee", target, until=probe.moved_towards(target))
     probe.wait_sim(5.0)
     err = np.linalg.norm(probe.ee_pose()[:3, 3] - target[:3, 3])
     assert err < 2e-3, f"after the unreachable target, the next one is missed by {err * 1e3:.1f} mm"

@@ -29,7 +29,7 @@ def rise_time(probe, step=0.01, fraction=0.9):
     target = start.copy()
     target[:3, 3] += [step, 0.0, 0.0]
     n0 = len(probe.states)
-    probe.send_target("ee", target)
+    probe.send_target("ee", target, until=probe.moved_towards(target, 1e-4))
     probe.wait_sim(1.5)
     states = probe.states[n0:]
     x = np.array([probe.ee_pose(s[1])[0, 3] - start[0, 3] for s in states])

@@ -35,7 +35,7 @@ def test_pose_target_reached_and_ramped_deactivation(system):
     start = probe.ee_pose()
     target = start.copy()
     target[:3, 3] += [0.08, -0.10, 0.05]
-    probe.send_target("ee", target)
+    probe.send_target("ee", target, until=probe.moved_towards(target))
     probe.wait_sim(3.0)
     err = np.linalg.norm(probe.ee_pose()[:3, 3] - target[:3, 3])
     assert err < 1e-3, f"end-effector {err * 1e3:.2f} mm from the target (PyBullet state)"
@@ -60,7 +60,7 @@ def test_reset_targets_holds_current_pose(system):
     probe, procs = system
     far = probe.ee_pose()
     far[:3, 3] += [0.0, 0.25, -0.1]
-    probe.send_target("ee", far)
+    probe.send_target("ee", far, until=probe.moved_towards(far))
     probe.wait_sim(0.05)
     res = probe.call(Trigger, "/orca_controller/reset_targets", Trigger.Request())
     assert res.success

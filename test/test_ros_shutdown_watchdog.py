@@ -19,11 +19,22 @@ Q0 = [0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]
 CFG = orca.share_path("config", "lwr_controller.yaml")
 
 
+_ROBOT = []
+
+
 def gravity(q):
-    robot = orca.RobotModel()
-    robot.load_model_from_file(orca.default_urdf_path())
-    robot.set_robot_state(np.asarray(q), np.zeros(7))
-    return robot.get_joint_gravity_torques()
+    if not _ROBOT:
+        _ROBOT.append(orca.RobotModel())
+        _ROBOT[0].load_model_from_file(orca.default_urdf_path())
+    _ROBOT[0].set_robot_state(np.asarray(q), np.zeros(7))
+    return _ROBOT[0].get_joint_gravity_torques().copy()
+
+
+def tracking(probe):
+    """Largest joint torque beyond gravity in the last command (at the last state)."""
+    if not probe.commands or not probe.states:
+        return 0.0
+    return np.abs(probe.commands[-1] - gravity(probe.states[-1][1])).max()
 
 
 def start(tmp_path, mode, *controller_args, bridge_args=()):
@@ -44,8 +55,8 @@ def test_signal_sends_the_hold_and_exits_cleanly(tmp_path, sig):
         probe.wait_for(lambda: probe.sim_time() > 0.8, 60, "the controller driving the bridge")
         target = probe.ee_pose()
         target[:3, 3] += [0.1, -0.1, 0.05]
-        probe.send_target("ee", target)  # moving: the last tracking command is far from the hold
-        probe.wait_sim(0.15)
+        # moving, the last tracking command is far from the hold: the signal comes once it is
+        probe.send_target("ee", target, until=lambda: tracking(probe) > 1.8)
         ctrl = procs.procs[1][0]
         ctrl.send_signal(sig)
         assert ctrl.wait(timeout=30) == 0
@@ -71,7 +82,7 @@ def test_killed_controller_bridge_holds(tmp_path):
         probe.wait_for(lambda: len(probe.commands) > 1500, 120, "the controller running")
         target = probe.ee_pose()
         target[:3, 3] += [0.0, 0.3, -0.1]
-        probe.send_target("ee", target)
+        probe.send_target("ee", target, until=probe.moved_towards(target))
 
         def ee_speed():
             s = probe.states[-11:]

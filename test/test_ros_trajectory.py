@@ -27,7 +27,7 @@ def run_step(tmp_path, *args):
         target = start.copy()
         target[:3, 3] += STEP
         n_cmd, n_state = len(probe.commands), len(probe.states)
-        probe.send_target("ee", target)
+        probe.send_target("ee", target, until=probe.moved_towards(target))
         probe.wait_sim(3.0)
         cmds = np.array(probe.commands[n_cmd:])
         states = probe.states[n_state:]

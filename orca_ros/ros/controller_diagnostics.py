@@ -46,7 +46,7 @@ class ControllerDiagnostics:
         cycles, fails, dropped = self.loop_periods.total, self.qp_failures, self.controller.dropped_levels
         c0, f0, d0 = self._diag_marks
         self._diag_marks = (cycles, fails, dropped)
-        # lockstep: a paused simulator re-announces its state every 50 ms, which is not a fault
+        # lockstep: a paused simulator re-announces its state about every 0.25 s, which is not a fault
         timeout = self.state_timeout if self.trigger == "timer" else max(self.state_timeout, 0.5)
         age = time.monotonic() - self._state_wall if self._have_state else 0.0
         level, message = assess(

@@ -119,7 +119,11 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
         stamp = stamp_to_sec(msg.header.stamp)
         if self.trigger == "joint_state" and self._state_stamp is not None and stamp <= self._state_stamp:
             self._state_wall = time.monotonic()
-            return  # a repeated state (e.g. the bridge re-announcing itself): computing twice would add a step
+            # a repeated state: the simulator re-announces itself when no command reached it (e.g. sent before
+            # discovery matched it). Computing again would add a step; the command of that instant is sent again
+            if stamp == self._computed_stamp and not self._stopped:
+                self.pub_cmd.publish(self._cmd_msg)
+            return
         self._q[:] = self._q_in
         self._v[:] = self._v_in
         self._state_wall = time.monotonic()

@@ -184,7 +184,31 @@ class Probe:
         self.robot.set_robot_state(q, np.zeros(7))
         return self.robot.get_frame_pose("link_7")
 
-    def send_target(self, task: str, T: np.ndarray, frame_id: str = ""):
+    def publish_until(self, publish, predicate, what: str, timeout: float = 60.0, period: float = 0.02):
+        """Call ``publish()`` every ``period`` s until ``predicate()`` holds. Discovery is asymmetric (a busy
+        node may take seconds to accept messages from a publisher that already sees its subscription), so a
+        message that must arrive is repeated until its effect shows, never sent once or for a fixed time."""
+        t0 = time.time()
+        while True:
+            publish()
+            t1 = time.time()
+            while time.time() - t1 < period:
+                if predicate():
+                    return
+                time.sleep(0.002)
+            if time.time() - t0 > timeout:
+                raise AssertionError(f"timed out after {timeout} s waiting for {what}")
+
+    def moved_towards(self, T: np.ndarray, distance: float = 1e-3):
+        """Predicate: the end effector has moved ``distance`` towards ``T``'s position since now."""
+        p0 = self.ee_pose()[:3, 3].copy()
+        d = T[:3, 3] - p0
+        d = d / max(np.linalg.norm(d), 1e-12)
+        return lambda: (self.ee_pose()[:3, 3] - p0) @ d > distance
+
+    def send_target(self, task: str, T: np.ndarray, frame_id: str = "", until=None, timeout: float = 60.0):
+        """Publish a pose target; with ``until`` (a predicate), repeat it until the predicate holds (the same
+        target again continues the same trajectory)."""
         from orca_ros.ros.common import matrix_to_pose
 
         if task not in self.pub_target:
@@ -196,7 +220,10 @@ class Probe:
         msg = self.PoseStamped()
         msg.header.frame_id = frame_id
         matrix_to_pose(T, msg.pose)
-        self.pub_target[task].publish(msg)
+        if until is None:
+            pub.publish(msg)
+        else:
+            self.publish_until(lambda: pub.publish(msg), until, f"the effect of {task}'s target", timeout)
 
     def send_target_point(self, task: str, position, velocity=(0, 0, 0), acceleration=(0, 0, 0)):
         """Cartesian target with feed-forward (orientation identity), in the controller's base frame."""

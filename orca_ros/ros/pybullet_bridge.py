@@ -143,6 +143,9 @@ class PyBulletBridge(GuardedNode):
                 if self.hw_gravity:
                     self._update_gravity()
                 self.server.step()
+        elif self.mode == "lockstep":
+            return  # paused: the idle announcements keep the controller informed (answering each command with
+            # the same state would make the controller, which repeats its command for a repeated state, ping-pong)
         self._publish_state()
 
     def _watched_command(self) -> np.ndarray:
@@ -238,8 +241,7 @@ class PyBulletBridge(GuardedNode):
     def _on_unpause(self, req, res):
         self.paused = False
         if self.mode == "lockstep":
-            # while paused every command was answered with the same state, which a lockstep controller does
-            # not act on twice: one step with the last command starts the exchange again
+            # one step with the last command starts the exchange again
             self._advance()
         res.success, res.message = True, "simulation running"
         return res
