@@ -18,6 +18,9 @@ TASKS, CONSTRAINTS = ("ee", "posture"), ("torque_limit",)
     ("tasks.ee.weight", [1.0, 2.0], "must be one number"),
     ("tasks.ee.active", 1, "must be true or false"),
     ("state_timeout", float("inf"), "outside"),
+    ("solver_max_iterations", 2.5, "must be an integer"),
+    ("solver_max_iterations", True, "must be an integer"),
+    ("solver_max_iterations", -1, "outside"),
 ])
 def test_refusals_say_why(name, value, reason):
     with pytest.raises(ParamRejected, match=reason.replace("[", r"\[").replace("+", r"\+")):
@@ -27,6 +30,7 @@ def test_refusals_say_why(name, value, reason):
 def test_live_values_are_normalised():
     assert validate("tasks.ee.kp", 50, TASKS, CONSTRAINTS)[2] == [50.0]
     assert validate("tasks.posture.weight", 2, TASKS, CONSTRAINTS)[2] == 2.0
+    assert validate("solver_max_iterations", 200, TASKS, CONSTRAINTS)[2] == 200
     assert validate("constraints.torque_limit.active", False, TASKS, CONSTRAINTS)[1] == {"constraint": "torque_limit"}
 
 

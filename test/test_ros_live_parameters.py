@@ -74,6 +74,15 @@ def test_gain_change_applies_and_bad_changes_are_refused(tmp_path):
         res = set_params(probe, atomically=True, tasks__ee__kp=[50.0] * 6, tasks__ee__kd=[-1.0] * 6)
         assert not res[0].successful and "tasks.ee.kd" in res[0].reason
         assert rise_time(probe, step=-0.01) == pytest.approx(t_100, rel=0.15)
+        # the solve budget: 50 ms by default in lockstep (the simulation waits), changed live, both at once
+        probe.wait_for(lambda: probe.diagnostics.get("solver_budget") == "50 ms, default iterations", 60,
+                       "the lockstep default budget in the diagnostics")
+        res = set_params(probe, atomically=True, solver_time_budget=0.02, solver_max_iterations=200)
+        assert res[0].successful, res[0].reason
+        probe.wait_for(lambda: probe.diagnostics.get("solver_budget") == "20 ms, 200 iterations", 60,
+                       "the new budget in the diagnostics")
+        res = set_params(probe, solver_max_iterations=-3)
+        assert not res[0].successful and "outside" in res[0].reason
         log = procs.log("controller")
         assert "parameter change rejected: 'solver' is read-only" in log and "Traceback" not in log
     finally:

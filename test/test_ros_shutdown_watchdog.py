@@ -109,7 +109,7 @@ def test_killed_controller_bridge_holds(tmp_path):
         procs.stop()
 
 
-def _level_after_fault(probe, reports=2, timeout=30.0):
+def _level_after_fault(probe, reports=2, timeout=120.0):
     """Level and message of the ``reports``-th diagnostics report received from now on."""
     seen = [probe.diagnostics]  # the probe replaces this dict on every report
 

@@ -70,12 +70,17 @@ class ControllerDiagnostics:
                   "loop_period_max_ms": f"{stats['period_max_ms']:.3f}",
                   "loop_jitter_p99_ms": f"{stats['jitter_p99_ms']:.3f}",
                   "cycles": str(stats["cycles"]), "qp_failures": str(fails), "dropped_levels": str(dropped),
-                  "rss_kb": str(_rss_kb()), "active_tasks": ",".join(active), "enabled": str(self._enabled)}
+                  "rss_kb": str(_rss_kb()), "solver_budget": self._budget_text(), "active_tasks": ",".join(active), "enabled": str(self._enabled)}
         st.values = [KeyValue(key=k, value=v) for k, v in values.items()]
         arr = DiagnosticArray()
         arr.header.stamp = self.get_clock().now().to_msg()
         arr.status = [st]
         self.pub_diag.publish(arr)
+
+    def _budget_text(self) -> str:
+        budget, cap = self.controller.get_solver_budget()
+        when = "one period" if budget is None else f"{budget * 1e3:g} ms"
+        return f"{when}, {'default' if cap is None else cap} iterations"
 
 
 def _rss_kb() -> int:

@@ -51,6 +51,8 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
         self.period = 1.0 / self.update_rate
         self.trigger = str(param(self, "trigger", "timer"))
         self.state_timeout = float(param(self, "state_timeout", 0.05))
+        self.solver_budget = [float(param(self, "solver_time_budget", 0.0)), int(param(self, "solver_max_iterations", 0))]
+        self.set_solver_budget(*self.solver_budget)
         self.target_timeout = float(param(self, "target_timeout", 0.0))
         self.safe = SafeCommand(self.robot, setup.gravity_compensated_by_hardware,
                                 float(param(self, "safe_damping", 10.0)), float(param(self, "safe_ramp", 0.2)))
@@ -108,6 +110,13 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
         self.setup_live_parameters()
         self.get_logger().info(f"orca_controller: {self.n} joints, {self.update_rate:.0f} Hz ({self.trigger}), "
                                f"solver {self.controller.solver.value}, tasks {list(setup.tasks)}")
+
+    def set_solver_budget(self, time_budget: float, max_iterations: int) -> None:
+        """0 s: one control period with a timer (the cycle must end in time), 50 ms in lockstep (the simulation
+        waits for the command: a busy machine must not change the outcome); 0 iterations: the solver's cap."""
+        if time_budget <= 0.0:
+            time_budget = None if self.trigger == "timer" else 0.05
+        self.controller.set_solver_budget(time_budget, max_iterations if max_iterations > 0 else None)
 
     # -------------------------------------------------------------- state input
     def _on_joint_state(self, msg: JointState) -> None:

@@ -70,6 +70,13 @@ class LiveParameters:
                 self._input = new_input
                 self._velocity_factor = factor
             return apply
+        if key in ("solver_time_budget", "solver_max_iterations"):
+            slot = 0 if key == "solver_time_budget" else 1
+
+            def apply_budget():
+                self.solver_budget[slot] = value
+                self.set_solver_budget(*self.solver_budget)
+            return apply_budget
         targets = {"state_timeout": (self, "state_timeout"), "target_timeout": (self, "target_timeout"),
                    "safe_damping": (self.safe, "damping"), "safe_ramp": (self.safe, "ramp"),
                    "overrun_factor": (self, "overrun_factor"),

@@ -66,6 +66,10 @@ SCHEMA: tuple[ParamSpec, ...] = (
               0.0, 10.0),
     ParamSpec("velocity_factor", _F, True, "joint-state speeds beyond this many times the limit are rejected",
               1.0, 1000.0),
+    ParamSpec("solver_time_budget", _F, True, "wall-clock time for a cycle's QP solves [s]; 0 = one period "
+              "(timer), 0.05 s (lockstep: the simulation waits, results do not depend on the load)", 0.0, 10.0),
+    ParamSpec("solver_max_iterations", "int", True, "iteration cap of each solve, 0 = the solver's default", 0,
+              1_000_000),
     ParamSpec("overrun_factor", _F, True, "a period above this many nominal periods is an overrun", 1.0, 100.0),
     ParamSpec("error_warn_threshold", _F, True, "task error reported when above this [m] ...", 0.0, 100.0),
     ParamSpec("error_warn_time", _F, True, "... for longer than this [s]", 0.0, 3600.0),
@@ -127,6 +131,12 @@ def validate(name: str, value, tasks=(), constraints=()):
             if not (math.isfinite(v) and spec.low <= v <= spec.high):
                 raise ParamRejected(f"'{name}' = {v!r} outside [{spec.low:g}, {spec.high:g}]")
         return spec, groups, nums[0] if spec.kind == "float" else nums
+    if spec.kind == "int":
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise ParamRejected(f"'{name}' must be an integer, got {value!r}")
+        if not spec.low <= value <= spec.high:
+            raise ParamRejected(f"'{name}' = {value!r} outside [{spec.low:g}, {spec.high:g}]")
+        return spec, groups, value
     raise ParamRejected(f"'{name}' cannot be changed at run time")
 
 
