@@ -1,14 +1,29 @@
-"""Cost of priority levels: Controller.update() on the arm with 1, 2 and 3 levels, per solver.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Cost of priority levels: Controller.update() on the arm with 1, 2 and 3 levels, per solver.
 
-Scenario (lwr.urdf, closed loop on the rigid-body model from a bent posture, torque/position/velocity limits):
-end-effector position task (level 0), elbow position task pulling elsewhere (level 1), joint posture
-(level 2). Rows:
+Scenario (lwr.urdf, closed loop on the rigid-body model from a bent posture,
+torque/position/velocity limits): end-effector position task (level 0), elbow position task pulling
+elsewhere (level 1), joint posture (level 2). Rows:
   * one_level_weighted: the same tasks in a single weighted QP (the baseline);
   * multi_level_weighted with 1, 2 and 3 levels (the first 1, 2 or 3 tasks);
   * generalized with priority 0.5 between every pair of levels (two QPs per level below the first).
 
 Usage: python bench/bench_levels.py [--cycles 3000]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -16,7 +31,6 @@ import gc
 import time
 
 import numpy as np
-
 import orca_ros as orca
 from orca_ros.examples.common import add_standard_constraints, integrate
 
@@ -28,8 +42,11 @@ def build(strategy: str, solver: str, n_tasks: int, priority: float | None = Non
     robot.load_model_from_file(orca.default_urdf_path())
     robot.set_gravity(np.array([0.0, 0.0, -9.81]))
     robot.set_robot_state(Q0, np.zeros(7))
-    c = orca.Controller("bench", robot, strategy, solver)
-    specs = [("ee", "link_7", [0.05, -0.08, 0.04], 1.0), ("elbow", "link_4", [-0.2, 0.3, -0.1], 10.0)]
+    c = orca.Controller('bench', robot, strategy, solver)
+    specs = [
+        ('ee', 'link_7', [0.05, -0.08, 0.04], 1.0),
+        ('elbow', 'link_4', [-0.2, 0.3, -0.1], 10.0),
+    ]
     for level, (name, frame, offset, weight) in enumerate(specs[:n_tasks]):
         task = c.add_task(orca.CartesianTask, name, level=level)
         task.set_control_frame(frame)
@@ -41,7 +58,7 @@ def build(strategy: str, solver: str, n_tasks: int, priority: float | None = Non
         task.set_selection_vector([1, 1, 1, 0, 0, 0])
         task.set_weight(weight)
     if n_tasks >= 3:
-        post = c.add_task(orca.JointAccelerationTask, "posture", level=2)
+        post = c.add_task(orca.JointAccelerationTask, 'posture', level=2)
         post.pid().set_proportional_gain(25.0)
         post.pid().set_derivative_gain(10.0)
         post.set_desired(np.zeros(7))
@@ -67,7 +84,9 @@ def run(strategy: str, solver: str, n_tasks: int, cycles: int, priority: float |
             ok = c.update(k * dt, dt)
             times.append(time.perf_counter() - t0)
             if not ok:
-                raise RuntimeError(f"{strategy} {solver}: no solution at cycle {k} ({c.get_return_code().value})")
+                raise RuntimeError(
+                    f'{strategy} {solver}: no solution at cycle {k} ({c.get_return_code().value})'
+                )
             q, v = integrate(robot, q, v, c.get_joint_torque_command(), dt)
     finally:
         gc.enable()
@@ -76,22 +95,27 @@ def run(strategy: str, solver: str, n_tasks: int, cycles: int, priority: float |
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--cycles", type=int, default=3000)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    ap.add_argument('--cycles', type=int, default=3000)
     args = ap.parse_args(argv)
-    rows = [("one_level_weighted", 3, None)]
-    rows += [("multi_level_weighted", n, None) for n in (1, 2, 3)]
-    rows += [("generalized", n, 0.5) for n in (2, 3)]
-    print(f"update() timing with priority levels, lwr 7-DoF closed loop, {args.cycles} cycles (microseconds)")
-    print(f"{'strategy':<22}{'levels':>7}{'solver':>8}{'median':>9}{'p99':>9}{'held':>6}")
+    rows = [('one_level_weighted', 3, None)]
+    rows += [('multi_level_weighted', n, None) for n in (1, 2, 3)]
+    rows += [('generalized', n, 0.5) for n in (2, 3)]
+    print(
+        f'update() timing with priority levels, lwr 7-DoF closed loop, {args.cycles} cycles '
+        '(microseconds)'
+    )
+    print(f'{"strategy":<22}{"levels":>7}{"solver":>8}{"median":>9}{"p99":>9}{"held":>6}')
     for strategy, n, prio in rows:
-        for solver in ("daqp", "proxqp", "osqp"):
+        for solver in ('daqp', 'proxqp', 'osqp'):
             run(strategy, solver, n, 200, prio)  # warm-up
             med, p99, held = run(strategy, solver, n, args.cycles, prio)
-            levels = 1 if strategy == "one_level_weighted" else n
-            print(f"{strategy:<22}{levels:>7}{solver:>8}{med:>9.1f}{p99:>9.1f}{held:>6}")
+            levels = 1 if strategy == 'one_level_weighted' else n
+            print(f'{strategy:<22}{levels:>7}{solver:>8}{med:>9.1f}{p99:>9.1f}{held:>6}')
     return 0
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     raise SystemExit(main())

@@ -1,12 +1,27 @@
-"""Controller.update() on the 12-DoF quadruped standing on four contacts, in PyBullet at 1 kHz.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Controller.update() on the 12-DoF quadruped standing on four contacts, in PyBullet at 1 kHz.
 
-The standing controller of orca_ros.examples.quadruped (4 point contacts with friction pyramids and existence
-conditions, 6-D base task, posture, torque / position / velocity limits: 42 QP variables) holds the robot for
---seconds of simulated time; only update() is timed. Floor: for the same QPs, one Pinocchio computeAllTerms
-plus one warm-started dense ProxQP update+solve.
+The standing controller of orca_ros.examples.quadruped (4 point contacts with friction pyramids and
+existence conditions, 6-D base task, posture, torque / position / velocity limits: 42 QP variables)
+holds the robot for --seconds of simulated time; only update() is timed. Floor: for the same QPs,
+one Pinocchio computeAllTerms plus one warm-started dense ProxQP update+solve.
 
 Usage: python bench/bench_quadruped.py [--seconds 5]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -14,11 +29,10 @@ import gc
 import time
 
 import numpy as np
-import pinocchio as pin
-import proxsuite
-
 from orca_ros.examples import quadruped as quad
 from orca_ros.sim import SimServer
+import pinocchio as pin
+import proxsuite
 
 
 def run(solver: str, seconds: float, capture=None):
@@ -28,25 +42,37 @@ def run(solver: str, seconds: float, capture=None):
     home = np.array([0.0, 0.0, quad.STAND_HEIGHT])
     times = []
     with SimServer(time_step=0.001) as server:
-        sim = server.insert_model_from_urdf_file(quad.quadruped_urdf(), position=home + [0, 0, 0.001],
-                                                 fixed_base=False)
+        sim = server.insert_model_from_urdf_file(
+            quad.quadruped_urdf(), position=home + [0, 0, 0.001], fixed_base=False
+        )
         sim.set_model_configuration(robot.get_joint_names(), quad.STAND_Q)
         gc.disable()
         try:
             for k in range(int(seconds / 0.001)):
-                robot.set_robot_state(sim.get_world_to_base_transform(), sim.get_joint_positions(),
-                                      sim.get_base_velocity(), sim.get_joint_velocities(), quad.GRAVITY)
+                robot.set_robot_state(
+                    sim.get_world_to_base_transform(),
+                    sim.get_joint_positions(),
+                    sim.get_base_velocity(),
+                    sim.get_joint_velocities(),
+                    quad.GRAVITY,
+                )
                 y = 0.03 * np.sin(2 * np.pi * 0.5 * k * 0.001)
                 qc.set_base_target(home + [0, y, 0])
                 t0 = time.perf_counter()
                 ok = qc.update(k * 0.001, 0.001)
                 times.append(time.perf_counter() - t0)
                 if not ok:
-                    raise RuntimeError(f"{solver}: no solution at cycle {k} ({c.get_return_code().value})")
+                    raise RuntimeError(
+                        f'{solver}: no solution at cycle {k} ({c.get_return_code().value})'
+                    )
                 if capture is not None:
                     p = c.get_problem_at_level(0)
-                    capture.append((robot._q_pin.copy(), robot._v_pin.copy()) + tuple(
-                        a.copy() for a in (p.H, p.g, p.A, p.b, p.C, p.l, p.u, p.lbox, p.ubox)))
+                    capture.append(
+                        (robot._q_pin.copy(), robot._v_pin.copy())
+                        + tuple(
+                            a.copy() for a in (p.H, p.g, p.A, p.b, p.C, p.l, p.u, p.lbox, p.ubox)
+                        )
+                    )
                 sim.set_joint_torque_command(c.get_joint_torque_command())
                 server.step()
         finally:
@@ -79,22 +105,27 @@ def floor(captured, robot):
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--seconds", type=float, default=5.0)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    ap.add_argument('--seconds', type=float, default=5.0)
     args = ap.parse_args(argv)
-    print(f"update() timing, quadruped standing (42 QP variables), {args.seconds:g} s at 1 kHz (microseconds)")
-    print(f"{'solver':<9}{'median':>9}{'p99':>9}{'floor med':>11}{'floor p99':>11}")
-    for solver in ("proxqp", "osqp"):
-        cap = [] if solver == "proxqp" else None
+    print(
+        f'update() timing, quadruped standing (42 QP variables), {args.seconds:g} s at 1 kHz '
+        '(microseconds)'
+    )
+    print(f'{"solver":<9}{"median":>9}{"p99":>9}{"floor med":>11}{"floor p99":>11}')
+    for solver in ('proxqp', 'osqp'):
+        cap = [] if solver == 'proxqp' else None
         ts, robot = run(solver, args.seconds, cap)
-        fl = ""
+        fl = ''
         if cap is not None:
             f = floor(cap, robot)
-            fl = f"{np.median(f):>11.1f}{np.percentile(f, 99):>11.1f}"
+            fl = f'{np.median(f):>11.1f}{np.percentile(f, 99):>11.1f}'
             ts, _ = run(solver, args.seconds)  # timed without the capture's copies
-        print(f"{solver:<9}{np.median(ts):>9.1f}{np.percentile(ts, 99):>9.1f}{fl}")
+        print(f'{solver:<9}{np.median(ts):>9.1f}{np.percentile(ts, 99):>9.1f}{fl}')
     return 0
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     raise SystemExit(main())

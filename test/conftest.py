@@ -1,21 +1,41 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+import importlib.util
 import os
 
 import numpy as np
+import orca_ros as orca
 import pytest
 
-import orca_ros as orca
+# the core's tests run without ROS; the nodes' tests (and the colcon build) need rclpy
+collect_ignore_glob = []
+if importlib.util.find_spec('rclpy') is None:
+    collect_ignore_glob += ['test_ros_*.py', 'test_colcon_package.py']
+if importlib.util.find_spec('colcon_core') is None:
+    collect_ignore_glob += ['test_colcon_package.py']
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope='session')
 def lwr_urdf():
     return orca.default_urdf_path()
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope='session')
 def iiwa_urdf():
     import pybullet_data
 
-    return os.path.join(pybullet_data.getDataPath(), "kuka_iiwa", "model.urdf")
+    return os.path.join(pybullet_data.getDataPath(), 'kuka_iiwa', 'model.urdf')
 
 
 @pytest.fixture

@@ -1,29 +1,56 @@
-"""Bridge and controller as separate processes (lockstep, private ROS domain, localhost discovery)."""
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Bridge and controller as separate processes.
+
+Lockstep, private ROS domain, localhost discovery.
+"""
+
 import numpy as np
+import orca_ros as orca
+from orca_ros.ros.launch_free import free_domain_id, Probe, Procs
 import pytest
+from std_srvs.srv import SetBool, Trigger
 
-pytest.importorskip("rclpy")
-
-from orca_ros.ros.launch_free import Probe, Procs, free_domain_id  # noqa: E402
-from std_srvs.srv import SetBool, Trigger  # noqa: E402
-
-import orca_ros as orca  # noqa: E402
-
-Q0 = "[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]"
+Q0 = '[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]'
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope='module')
 def system(tmp_path_factory):
-    tmp = tmp_path_factory.mktemp("ros")
+    tmp = tmp_path_factory.mktemp('ros')
     domain = free_domain_id()
     procs = Procs(domain, str(tmp))
-    cfg = orca.share_path("config", "lwr_controller.yaml")
-    procs.start("orca_ros.ros.pybullet_bridge", "-p", "mode:=lockstep", "-p", f"initial_positions:={Q0}",
-                name="bridge")
-    procs.start("orca_ros.ros.controller_node", "--params-file", cfg, "-p", "trigger:=joint_state", name="controller")
+    cfg = orca.share_path('config', 'lwr_controller.yaml')
+    procs.start(
+        'orca_ros.ros.pybullet_bridge',
+        '-p',
+        'mode:=lockstep',
+        '-p',
+        f'initial_positions:={Q0}',
+        name='bridge',
+    )
+    procs.start(
+        'orca_ros.ros.controller_node',
+        '--params-file',
+        cfg,
+        '-p',
+        'trigger:=joint_state',
+        name='controller',
+    )
     probe = Probe(domain)
     try:
-        probe.wait_for(lambda: probe.sim_time() > 1.0, 60, "the controller driving the bridge")
+        probe.wait_for(lambda: probe.sim_time() > 1.0, 60, 'the controller driving the bridge')
         yield probe, procs
     finally:
         probe.close()
@@ -35,59 +62,76 @@ def test_pose_target_reached_and_ramped_deactivation(system):
     start = probe.ee_pose()
     target = start.copy()
     target[:3, 3] += [0.08, -0.10, 0.05]
-    probe.send_target("ee", target, until=probe.moved_towards(target))
+    probe.send_target('ee', target, until=probe.moved_towards(target))
     probe.wait_sim(3.0)
     err = np.linalg.norm(probe.ee_pose()[:3, 3] - target[:3, 3])
-    assert err < 1e-3, f"end-effector {err * 1e3:.2f} mm from the target (PyBullet state)"
+    assert err < 1e-3, f'end-effector {err * 1e3:.2f} mm from the target (PyBullet state)'
 
     # ramp the task out: torques stay continuous
-    n0 = len(probe.commands)
-    res = probe.call(SetBool, "/orca_controller/tasks/ee/set_active", SetBool.Request(data=False))
+    t0 = probe.sim_time()
+    res = probe.call(SetBool, '/orca_controller/tasks/ee/set_active', SetBool.Request(data=False))
     assert res.success
     probe.wait_sim(1.0)
-    cmds = np.array(probe.commands[n0:])
-    steps = np.abs(np.diff(cmds, axis=0)).max()
-    assert steps < 1.0, f"largest torque step {steps:.3f} Nm per cycle while ramping out"
+    # applied torques between consecutive simulation steps (the probe may miss messages under load)
+    steps = probe.max_torque_step(t0, probe.sim_time())
+    assert steps < 1.0, f'largest torque step {steps:.3f} Nm per cycle while ramping out'
     # and back in: the target is reached again
-    res = probe.call(SetBool, "/orca_controller/tasks/ee/set_active", SetBool.Request(data=True))
+    res = probe.call(SetBool, '/orca_controller/tasks/ee/set_active', SetBool.Request(data=True))
     assert res.success
     probe.wait_sim(3.0)
     err = np.linalg.norm(probe.ee_pose()[:3, 3] - target[:3, 3])
-    assert err < 1e-3, f"after re-activation {err * 1e3:.2f} mm from the target"
+    assert err < 1e-3, f'after re-activation {err * 1e3:.2f} mm from the target'
 
 
 def test_reset_targets_holds_current_pose(system):
     probe, procs = system
     far = probe.ee_pose()
     far[:3, 3] += [0.0, 0.25, -0.1]
-    probe.send_target("ee", far, until=probe.moved_towards(far))
+    probe.send_target('ee', far, until=probe.moved_towards(far))
     probe.wait_sim(0.05)
-    res = probe.call(Trigger, "/orca_controller/reset_targets", Trigger.Request())
+    res = probe.call(Trigger, '/orca_controller/reset_targets', Trigger.Request())
     assert res.success
     at_reset = probe.ee_pose()
     probe.wait_sim(1.5)
     final = probe.ee_pose()
-    # it stopped near where it was when the targets were reset (measured once the service answered; the
-    # arm then brakes), short of the abandoned target
+    # it stopped near where it was when the targets were reset (measured once the service answered;
+    # the arm then brakes), short of the abandoned target
     assert np.linalg.norm(final[:3, 3] - at_reset[:3, 3]) < 0.03
     assert np.linalg.norm(final[:3, 3] - far[:3, 3]) > 0.02
     assert np.abs(probe.last_state()[2]).max() < 0.02
-    assert "Traceback" not in procs.log("controller") and "Traceback" not in procs.log("bridge")
+    assert 'Traceback' not in procs.log('controller') and 'Traceback' not in procs.log('bridge')
 
 
 def _final_state(tmp_path, run):
     domain = free_domain_id()
-    procs = Procs(domain, str(tmp_path / f"run{run}"))
-    (tmp_path / f"run{run}").mkdir()
-    cfg = orca.share_path("config", "lwr_controller.yaml")
-    procs.start("orca_ros.ros.pybullet_bridge", "-p", "mode:=lockstep", "-p", f"initial_positions:={Q0}",
-                "-p", "stop_time:=1.5", name="bridge")
-    procs.start("orca_ros.ros.controller_node", "--params-file", cfg, "-p", "trigger:=joint_state",
-                "-p", "tasks.ee.target_position:=[0.45, -0.2, 0.55]", "-p", "tasks.ee.target_rpy:=[3.14159, 0.0, 0.0]",
-                name="controller")
+    procs = Procs(domain, str(tmp_path / f'run{run}'))
+    (tmp_path / f'run{run}').mkdir()
+    cfg = orca.share_path('config', 'lwr_controller.yaml')
+    procs.start(
+        'orca_ros.ros.pybullet_bridge',
+        '-p',
+        'mode:=lockstep',
+        '-p',
+        f'initial_positions:={Q0}',
+        '-p',
+        'stop_time:=1.5',
+        name='bridge',
+    )
+    procs.start(
+        'orca_ros.ros.controller_node',
+        '--params-file',
+        cfg,
+        '-p',
+        'trigger:=joint_state',
+        '-p',
+        'tasks.ee.target_position:=[0.45, -0.2, 0.55]',
+        '-p',
+        'tasks.ee.target_rpy:=[3.14159, 0.0, 0.0]',
+        name='controller',
+    )
     probe = Probe(domain)
     try:
-        probe.wait_for(lambda: probe.sim_time() >= 1.5 - 1e-9, 90, "the end of the lockstep run")
+        probe.wait_for(lambda: probe.sim_time() >= 1.5 - 1e-9, 90, 'the end of the lockstep run')
         return probe.last_state()
     finally:
         probe.close()
@@ -95,15 +139,21 @@ def _final_state(tmp_path, run):
 
 
 def test_lockstep_runs_are_deterministic(tmp_path):
-    """Same final simulated time and state twice. Not always bit-identical: BLAS's vectorised reductions sum
-    in an order that depends on the memory alignment of the arrays, which the DDS threads' allocations vary
-    from run to run (observed: either identical, or 1.6e-15 rad apart after 1500 steps)."""
+    """
+    Same final simulated time and state twice.
+
+    Not always bit-identical: BLAS's vectorised reductions sum in an order that depends on the
+    memory alignment of the arrays, which the DDS threads' allocations vary from run to run
+    (observed: either identical, or 1.6e-15 rad apart after 1500 steps).
+    """
     a = _final_state(tmp_path, 1)
     b = _final_state(tmp_path, 2)
     assert a[0] == b[0]
     np.testing.assert_allclose(a[1], b[1], rtol=0, atol=1e-12)
     np.testing.assert_allclose(a[2], b[2], rtol=0, atol=1e-12)
-    assert np.abs(a[1] - np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0])).max() > 0.05  # it did move
+    assert (
+        np.abs(a[1] - np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0])).max() > 0.05
+    )  # it did move
 
 
 def test_main_job_reaches_every_target(tmp_path):
@@ -113,13 +163,18 @@ def test_main_job_reaches_every_target(tmp_path):
     import time
 
     t0 = time.time()
-    proc = subprocess.run([sys.executable, "-m", "orca_ros.ros.main_job", "--output-dir", str(tmp_path)],
-                          capture_output=True, text=True, timeout=120, env=dict(os.environ, MPLBACKEND="Agg"))
+    proc = subprocess.run(
+        [sys.executable, '-m', 'orca_ros.ros.main_job', '--output-dir', str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env=dict(os.environ, MPLBACKEND='Agg'),
+    )
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    assert "RESULT: every target reached" in proc.stdout
-    assert proc.stdout.count(" mm ") >= 5 and "NOT REACHED" not in proc.stdout
-    assert (tmp_path / "main_job_torques.png").stat().st_size > 10_000
-    assert (tmp_path / "main_job_path.png").stat().st_size > 10_000
+    assert 'RESULT: every target reached' in proc.stdout
+    assert proc.stdout.count(' mm ') >= 5 and 'NOT REACHED' not in proc.stdout
+    assert (tmp_path / 'main_job_torques.png').stat().st_size > 10_000
+    assert (tmp_path / 'main_job_path.png').stat().st_size > 10_000
     assert time.time() - t0 < 120
 
 
@@ -128,21 +183,30 @@ def test_pause_enable_and_diagnostics(system):
 
     probe, procs = system
     # bridge pause: simulated time stops (lockstep answers with the same state), unpause resumes it
-    assert probe.call(Trigger, "/pybullet_bridge/pause", Trigger.Request()).success
+    assert probe.call(Trigger, '/pybullet_bridge/pause', Trigger.Request()).success
     time.sleep(0.3)
     t_paused = probe.sim_time()
     time.sleep(0.5)
     assert probe.sim_time() == t_paused
-    assert probe.call(Trigger, "/pybullet_bridge/unpause", Trigger.Request()).success
+    assert probe.call(Trigger, '/pybullet_bridge/unpause', Trigger.Request()).success
     probe.wait_sim(0.5)
-    # disable: the controller holds with the safe command and says so on /diagnostics; enable resumes
-    assert probe.call(SetBool, "/orca_controller/enable", SetBool.Request(data=False)).success
-    probe.wait_for(lambda: "disabled" in probe.diagnostics.get("_message", ""), 10, "diagnostics reporting the hold")
+    # disable: the controller holds with the safe command and says so on /diagnostics; enable
+    # resumes
+    assert probe.call(SetBool, '/orca_controller/enable', SetBool.Request(data=False)).success
+    probe.wait_for(
+        lambda: 'disabled' in probe.diagnostics.get('_message', ''),
+        10,
+        'diagnostics reporting the hold',
+    )
     q_hold = probe.last_state()[1]
     probe.wait_sim(0.5)
     assert np.abs(probe.last_state()[1] - q_hold).max() < 0.02  # held still (gravity + damping)
-    assert probe.call(SetBool, "/orca_controller/enable", SetBool.Request(data=True)).success
-    probe.wait_for(lambda: probe.diagnostics.get("_message") == "controlling", 10, "diagnostics back to controlling")
-    assert probe.diagnostics["solver_status"] == "success"
-    assert set(probe.diagnostics["active_tasks"].split(",")) == {"ee", "posture"}
-    assert float(probe.diagnostics["solve_time_median_us"]) > 0
+    assert probe.call(SetBool, '/orca_controller/enable', SetBool.Request(data=True)).success
+    probe.wait_for(
+        lambda: probe.diagnostics.get('_message') == 'controlling',
+        10,
+        'diagnostics back to controlling',
+    )
+    assert probe.diagnostics['solver_status'] == 'success'
+    assert set(probe.diagnostics['active_tasks'].split(',')) == {'ee', 'posture'}
+    assert float(probe.diagnostics['solve_time_median_us']) > 0

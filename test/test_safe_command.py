@@ -1,6 +1,19 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """The safe command fades from the last command into a stable, damped gravity hold."""
-import numpy as np
 
+import numpy as np
 import orca_ros as orca
 from orca_ros.safety import SafeCommand
 from orca_ros.sim import SimServer
@@ -30,7 +43,9 @@ def test_damped_hold_stops_a_moving_arm_in_simulation(lwr_urdf):
             server.client.resetJointState(model.body, jid, q, 1.0)  # every joint moving at 1 rad/s
         model._read_joints()
         for k in range(1000):
-            tau = safe.compute(k * 0.001, np.zeros(7), model.get_joint_positions(), model.get_joint_velocities())
+            tau = safe.compute(
+                k * 0.001, np.zeros(7), model.get_joint_positions(), model.get_joint_velocities()
+            )
             model.set_joint_torque_command(tau)
             server.step()
         # every joint, the light wrist included, has come to rest without oscillating away

@@ -1,12 +1,27 @@
-"""One scenario of scenarios.py run with orca_ros (default settings); prints one JSON line.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+One scenario of scenarios.py run with orca_ros (default settings); prints one JSON line.
 
-Timed per step: set_robot_state + Controller.update() + reading the torque command (what the node does between
-a new state and its command). ``--floor`` times instead the least any Python controller on this stack spends
-on the same problem: one Pinocchio computeAllTerms + one warm-started dense ProxQP solve of the controller's
-own QP of that step (captured beforehand).
+Timed per step: set_robot_state + Controller.update() + reading the torque command (what the node
+does between a new state and its command). ``--floor`` times instead the least any Python
+controller on this stack spends on the same problem: one Pinocchio computeAllTerms + one
+warm-started dense ProxQP solve of the controller's own QP of that step (captured beforehand).
 
 Usage: python run_orca.py SCENARIO [--steps N] [--solver NAME] [--floor]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -15,62 +30,71 @@ import json
 import time
 
 import numpy as np
-import pinocchio as pin
-
 import orca_ros as orca
+import pinocchio as pin
 import scenarios as S
 
 
 def build(sc, solver=None):
     robot = orca.RobotModel()
-    robot.load_model_from_file(S.urdf_path(sc), floating_base=sc["floating"])
+    robot.load_model_from_file(S.urdf_path(sc), floating_base=sc['floating'])
     model = robot.model
     q = S.initial_configuration(sc, model)
     v = np.zeros(model.nv)
-    if sc["floating"]:
-        robot.set_base_frame("world")
+    if sc['floating']:
+        robot.set_base_frame('world')
     set_state(robot, q, v)
-    kw = {} if solver is None else {"solver": solver}
-    c = orca.Controller("bench", robot, **kw)
+    kw = {} if solver is None else {'solver': solver}
+    c = orca.Controller('bench', robot, **kw)
     h = {}
-    if "ee" in sc:
-        e = sc["ee"]
-        t = c.add_task(orca.CartesianTask, "ee")
-        t.set_control_frame(e["frame"])
-        t.set_weight(e["weight"])
+    if 'ee' in sc:
+        e = sc['ee']
+        t = c.add_task(orca.CartesianTask, 'ee')
+        t.set_control_frame(e['frame'])
+        t.set_weight(e['weight'])
         pid = t.servo_controller().pid()
-        pid.set_proportional_gain(e["kp"])
-        pid.set_derivative_gain(e["kd"])
-        h["ee"] = (t, robot.get_frame_pose(e["frame"]), e["amplitude"])
-    if "com" in sc:
-        e = sc["com"]
-        t = c.add_task(orca.CoMTask, "com")
-        t.set_weight(e["weight"])
-        t.pid().set_proportional_gain(e["kp"])
-        t.pid().set_derivative_gain(e["kd"])
-        h["com"] = (t, robot.get_center_of_mass(), e["amplitude"])
-    p = sc["posture"]
-    post = c.add_task(orca.JointAccelerationTask, "posture")
-    post.set_weight(p["weight"])
-    post.pid().set_proportional_gain(p["kp"])
-    post.pid().set_derivative_gain(p["kd"])
+        pid.set_proportional_gain(e['kp'])
+        pid.set_derivative_gain(e['kd'])
+        h['ee'] = (t, robot.get_frame_pose(e['frame']), e['amplitude'])
+    if 'com' in sc:
+        e = sc['com']
+        t = c.add_task(orca.CoMTask, 'com')
+        t.set_weight(e['weight'])
+        t.pid().set_proportional_gain(e['kp'])
+        t.pid().set_derivative_gain(e['kd'])
+        h['com'] = (t, robot.get_center_of_mass(), e['amplitude'])
+    p = sc['posture']
+    post = c.add_task(orca.JointAccelerationTask, 'posture')
+    post.set_weight(p['weight'])
+    post.pid().set_proportional_gain(p['kp'])
+    post.pid().set_derivative_gain(p['kd'])
     post.set_desired(robot.get_joint_positions())
-    if "points" in sc:
-        cp = sc["points"]
-        for f in cp["frames"]:
+    if 'points' in sc:
+        cp = sc['points']
+        for f in cp['frames']:
             ct = orca.Contact(f, f)
-            ct.set_friction_coefficient(cp["mu"])
-            ct.set_maximum_normal_force(cp["fmax"])
+            ct.set_friction_coefficient(cp['mu'])
+            ct.set_maximum_normal_force(cp['fmax'])
             c.add_constraint(ct)
-    if "soles" in sc:
-        cp = sc["soles"]
-        for f in cp["frames"]:
-            c.add_constraint(orca.SurfaceContact(f, f, S.sole_corners(sc), friction_coefficient=cp["mu"],
-                                                 maximum_normal_force=cp["fmax"]))
-    lim = {"torque": orca.JointTorqueLimitConstraint, "position": orca.JointPositionLimitConstraint,
-           "velocity": orca.JointVelocityLimitConstraint}
-    for name in sc["limits"]:
-        c.add_constraint(lim[name], f"{name}_limit")
+    if 'soles' in sc:
+        cp = sc['soles']
+        for f in cp['frames']:
+            c.add_constraint(
+                orca.SurfaceContact(
+                    f,
+                    f,
+                    S.sole_corners(sc),
+                    friction_coefficient=cp['mu'],
+                    maximum_normal_force=cp['fmax'],
+                )
+            )
+    lim = {
+        'torque': orca.JointTorqueLimitConstraint,
+        'position': orca.JointPositionLimitConstraint,
+        'velocity': orca.JointVelocityLimitConstraint,
+    }
+    for name in sc['limits']:
+        c.add_constraint(lim[name], f'{name}_limit')
     for obj in c.get_tasks() + c.get_constraints():
         obj.set_ramp_duration(0.0)
     c.activate_tasks_and_constraints()
@@ -78,14 +102,14 @@ def build(sc, solver=None):
 
 
 def set_state(robot, q, v):
-    """The state as TSID receives it (Pinocchio's q, v): RobotModel.set_configuration."""
+    """Set the state as TSID receives it (Pinocchio's q, v) with RobotModel.set_configuration."""
     robot.set_configuration(q, v)
 
 
 def _set_refs(h, t):
     for key, (task, ref0, amp) in h.items():
         off = S.reference_offset(amp, t)
-        if key == "ee":
+        if key == 'ee':
             T = ref0.copy()
             T[:3, 3] += off
             task.servo_controller().set_desired(T)
@@ -96,7 +120,11 @@ def _set_refs(h, t):
 def _errors(h, robot):
     out = {}
     for key, (task, ref0, amp) in h.items():
-        err = task.servo_controller().get_cartesian_pose_error()[:3] if key == "ee" else task.get_position_error()
+        err = (
+            task.servo_controller().get_cartesian_pose_error()[:3]
+            if key == 'ee'
+            else task.get_position_error()
+        )
         out[key] = float(np.linalg.norm(err))
     return out
 
@@ -121,23 +149,35 @@ def run(name, n_steps=None, solver=None, capture=None):
             failures += 1
         if capture is not None:
             capture.append((robot._q_pin.copy(), robot._v_pin.copy(), c.get_problem_at_level(0)))
-        dv = c.get_solution()[:model.nv]
+        dv = c.get_solution()[: model.nv]
         v = v + S.DT * dv
         q = pin.integrate(model, q, S.DT * v)
     gc.enable()
     p = c.get_problem_at_level(0)
-    return {"impl": "orca", "solver": c.solver.value, "scenario": name, **S.stats(times[min(100, n // 10):]),
-            "failures": failures, "errors": _errors(h, robot), "nvar": int(p.layout.nx), "neq": int(p.n_eq),
-            "nin": int(p.n_in), "tau_norm": float(np.linalg.norm(tau))}
+    return {
+        'impl': 'orca',
+        'solver': c.solver.value,
+        'scenario': name,
+        **S.stats(times[min(100, n // 10):]),
+        'failures': failures,
+        'errors': _errors(h, robot),
+        'nvar': int(p.layout.nx),
+        'neq': int(p.n_eq),
+        'nin': int(p.n_in),
+        'tau_norm': float(np.linalg.norm(tau)),
+    }
 
 
 def floor(name, n_steps=None):
-    """computeAllTerms + one warm-started dense ProxQP solve of the same QPs (values captured in a first run)."""
+    """
+    Time the floor: computeAllTerms and one warm-started dense ProxQP solve of the same QPs.
+
+    The QP values are captured in a first run.
+    """
     import proxsuite
 
     sc = S.SCENARIOS[name]
     n = n_steps or S.steps(sc)
-    qps = []
     robot, model, c, h, q, v = build(sc)
     p = c.get_problem_at_level(0)
     cap = []
@@ -146,9 +186,11 @@ def floor(name, n_steps=None):
         _set_refs(h, t)
         set_state(robot, q, v)
         c.update(t, S.DT)
-        cap.append((robot._q_pin.copy(), robot._v_pin.copy()) + tuple(
-            a.copy() for a in (p.H, p.g, p.A, p.b, p.C, p.l, p.u, p.lbox, p.ubox)))
-        dv = c.get_solution()[:model.nv]
+        cap.append(
+            (robot._q_pin.copy(), robot._v_pin.copy())
+            + tuple(a.copy() for a in (p.H, p.g, p.A, p.b, p.C, p.l, p.u, p.lbox, p.ubox))
+        )
+        dv = c.get_solution()[: model.nv]
         v = v + S.DT * dv
         q = pin.integrate(model, q, S.DT * v)
     data = model.createData()
@@ -157,8 +199,19 @@ def floor(name, n_steps=None):
     qp.settings.eps_abs = 1e-9
     qp.settings.eps_rel = 0.0
     qp.settings.verbose = False
-    args = lambda c_: (c_[2], c_[3], c_[4] if ne else None, c_[5] if ne else None, c_[6] if ni else None,  # noqa: E731
-                       c_[7] if ni else None, c_[8] if ni else None, c_[9], c_[10])
+
+    def args(c_):
+        return (
+            c_[2],
+            c_[3],
+            c_[4] if ne else None,
+            c_[5] if ne else None,
+            c_[6] if ni else None,
+            c_[7] if ni else None,
+            c_[8] if ni else None,
+            c_[9],
+            c_[10],
+        )
     qp.init(*args(cap[0]))
     qp.solve()
     qp.settings.initial_guess = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
@@ -172,18 +225,20 @@ def floor(name, n_steps=None):
         qp.solve()
         times[k] = time.perf_counter() - t0
     gc.enable()
-    return {"impl": "floor", "scenario": name, **S.stats(times[min(100, n // 10):])}
+    return {'impl': 'floor', 'scenario': name, **S.stats(times[min(100, n // 10):])}
 
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("scenario", choices=sorted(S.SCENARIOS))
-    ap.add_argument("--steps", type=int, default=None)
-    ap.add_argument("--solver", default=None)
-    ap.add_argument("--floor", action="store_true")
+    ap.add_argument('scenario', choices=sorted(S.SCENARIOS))
+    ap.add_argument('--steps', type=int, default=None)
+    ap.add_argument('--solver', default=None)
+    ap.add_argument('--floor', action='store_true')
     a = ap.parse_args()
-    print(json.dumps(floor(a.scenario, a.steps) if a.floor else run(a.scenario, a.steps, a.solver)))
+    print(
+        json.dumps(floor(a.scenario, a.steps) if a.floor else run(a.scenario, a.steps, a.solver))
+    )
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     main()

@@ -1,14 +1,29 @@
-"""Activation life cycle shared by tasks and constraints.
-
-States: INIT -> (activate) ACTIVATING -> ACTIVATED -> (deactivate) DEACTIVATING -> DEACTIVATED.
-The ramp factor follows :func:`orca_ros.math.smooth_ramp` over ``ramp_duration`` seconds of controller
-time (0 -> 1 while activating, back to 0 while deactivating). A deactivation requested in the middle of
-an activation runs the ramp backwards from where it is, so the factor never jumps.
-
-Callbacks (each optional): activation() when activate() is called, activated() when the ramp reaches 1,
-compute_begin(t, dt) / compute_end(t, dt) around every computation while not inactive, deactivation() when
-deactivate() is called, deactivated() when the ramp reaches 0.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+Activation life cycle shared by tasks and constraints.
+
+States: INIT -> (activate) ACTIVATING -> ACTIVATED -> (deactivate) DEACTIVATING -> DEACTIVATED. The
+ramp factor follows :func:`orca_ros.math.smooth_ramp` over ``ramp_duration`` seconds of controller
+time (0 -> 1 while activating, back to 0 while deactivating). A deactivation requested in the
+middle of an activation runs the ramp backwards from where it is, so the factor never jumps.
+
+Callbacks (each optional): activation() when activate() is called, activated() when the ramp
+reaches 1, compute_begin(t, dt) / compute_end(t, dt) around every computation while not inactive,
+deactivation() when deactivate() is called, deactivated() when the ramp reaches 0.
+"""
+
 from __future__ import annotations
 
 from enum import Enum
@@ -17,15 +32,15 @@ from typing import Callable
 from ..math.smooth_ramp import smooth_ramp
 from ..utils.logger import get_logger
 
-_LOG = get_logger("task")
+_LOG = get_logger('task')
 
 
 class ActivationState(Enum):
-    INIT = "init"
-    ACTIVATING = "activating"
-    ACTIVATED = "activated"
-    DEACTIVATING = "deactivating"
-    DEACTIVATED = "deactivated"
+    INIT = 'init'
+    ACTIVATING = 'activating'
+    ACTIVATED = 'activated'
+    DEACTIVATING = 'deactivating'
+    DEACTIVATED = 'deactivated'
 
 
 _INACTIVE = (ActivationState.INIT, ActivationState.DEACTIVATED)
@@ -35,12 +50,12 @@ _SNAP = 1e-9  # accumulated time steps rarely land exactly on the ramp's end
 class TaskBase:
     def __init__(self, name: str):
         if not isinstance(name, str) or not name:
-            raise ValueError("a task or constraint needs a non-empty name")
+            raise ValueError('a task or constraint needs a non-empty name')
         self.name = name
         self.robot = None
         self.state = ActivationState.INIT
         self.ramp_duration = 0.0
-        self._ramp_x = 0.0          # normalised ramp time in [0, 1]
+        self._ramp_x = 0.0  # normalised ramp time in [0, 1]
         self._ramp_factor = 0.0
         self._ramp_t0: float | None = None
         self._ramp_x0 = 0.0
@@ -58,7 +73,7 @@ class TaskBase:
     def set_ramp_duration(self, seconds: float) -> None:
         seconds = float(seconds)
         if not seconds >= 0.0:
-            raise ValueError(f"{self.name}: ramp duration must be >= 0, got {seconds}")
+            raise ValueError(f'{self.name}: ramp duration must be >= 0, got {seconds}')
         self.ramp_duration = seconds
 
     def get_ramp_duration(self) -> float:
@@ -93,7 +108,11 @@ class TaskBase:
         return self.state in _INACTIVE
 
     def is_computing(self) -> bool:
-        """True while the object contributes to the problem (activating, activated or deactivating)."""
+        """
+        Tell whether the object contributes to the problem.
+
+        True while activating, activated or deactivating.
+        """
         return self.state not in _INACTIVE
 
     def get_ramp_value(self) -> float:
@@ -147,7 +166,7 @@ class TaskBase:
                     self._cb_deactivated()
 
     def update(self, current_time: float, dt: float) -> None:
-        """Advance the life cycle and recompute this object's contribution for the current robot state."""
+        """Advance the life cycle and recompute this object's contribution for the robot state."""
         st = self.state
         if st is ActivationState.ACTIVATED and self._cb_begin is None and self._cb_end is None:
             self._update(current_time, dt)  # the steady state: nothing to ramp, nobody to call
@@ -157,7 +176,8 @@ class TaskBase:
         if self._cb_begin is not None:
             self._cb_begin(current_time, dt)
         self._step_ramp(current_time)
-        # the deactivating step may have just finished: the contribution is then zero, nothing to compute
+        # the deactivating step may have just finished: the contribution is then zero, nothing to
+        # compute
         if self.state not in _INACTIVE:
             self._update(current_time, dt)
         if self._cb_end is not None:
@@ -167,4 +187,5 @@ class TaskBase:
         raise NotImplementedError
 
     def describe(self) -> str:
-        return f"{type(self).__name__} '{self.name}' [{self.state.value}, ramp {self._ramp_factor:.3f}]"
+        state = f'{self.state.value}, ramp {self._ramp_factor:.3f}'
+        return f"{type(self).__name__} '{self.name}' [{state}]"

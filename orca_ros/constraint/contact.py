@@ -1,27 +1,44 @@
-"""Unilateral point contact with a linearised Coulomb friction cone.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Unilateral point contact with a linearised Coulomb friction cone.
 
-A contact owns one external wrench w = [f, m] (world axes, applied by the environment on the robot at the
-contact point) among the QP variables; the dynamics see it through J_c^T w. For a point contact m = 0 (fixed by
-the variable bounds) and f must lie in the friction cone of normal n and coefficient mu, approximated from
-inside by a pyramid of ``number_of_faces`` faces:
+A contact owns one external wrench w = [f, m] (world axes, applied by the environment on the robot
+at the contact point) among the QP variables; the dynamics see it through J_c^T w. For a point
+contact m = 0 (fixed by the variable bounds) and f must lie in the friction cone of normal n and
+coefficient mu, approximated from inside by a pyramid of ``number_of_faces`` faces:
 
-    d_k . f <= mu_eff (n . f),   d_k = cos(2 pi k / N) t1 + sin(2 pi k / N) t2,   mu_eff = (mu - margin) cos(pi / N)
+    d_k . f <= mu_eff (n . f),   d_k = cos(2 pi k / N) t1 + sin(2 pi k / N) t2,
+    mu_eff = (mu - margin) cos(pi / N)
     min_normal_force <= n . f <= f_max(t)
 
-(``mu_eff`` puts the pyramid's edges inside the cone shrunk by ``margin``: every solution is inside the true
-cone). The *existence condition* (:class:`ContactExistenceCondition`, added with the contact) keeps the contact
-point from accelerating: J_p nu_dot + J_dot_p nu = 0 (3 rows).
+(``mu_eff`` puts the pyramid's edges inside the cone shrunk by ``margin``: every solution is inside
+the true cone). The *existence condition* (:class:`ContactExistenceCondition`, added with the
+contact) keeps the contact point from accelerating: J_p nu_dot + J_dot_p nu = 0 (3 rows).
 
-Activation ramps f_max smoothly: switching a contact on raises the bound from 0 to ``maximum_normal_force``;
-switching it off lowers it from the normal force the contact carried when the deactivation started to 0, so a
-foot is unloaded progressively before it leaves the ground. A deactivated contact's wrench is held at zero.
+Activation ramps f_max smoothly: switching a contact on raises the bound from 0 to
+``maximum_normal_force``; switching it off lowers it from the normal force the contact carried when
+the deactivation started to 0, so a foot is unloaded progressively before it leaves the ground. A
+deactivated contact's wrench is held at zero.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
-from ..common.task_base import ActivationState
 from .generic_constraint import GenericConstraint
+from ..common.task_base import ActivationState
 
 
 def _skew(r):
@@ -29,8 +46,13 @@ def _skew(r):
 
 
 def point_terms(robot, frame_id: int, offset):
-    """(position, J 6 x nv, velocity 6, bias acceleration 6) of a point rigidly attached to a frame (offset in
-    the frame's axes), world axes; linear rows are the point's, angular rows the frame's."""
+    """
+    Return the kinematics of a point rigidly attached to a frame.
+
+    (position, J 6 x nv, velocity 6, bias acceleration 6) of a point rigidly attached to a frame
+    (offset in the frame's axes), world axes; linear rows are the point's, angular rows the
+    frame's.
+    """
     T, J, vel, acc = robot.world_frame_terms(frame_id)
     if offset is None:
         return T[:3, 3], J, vel, acc
@@ -48,7 +70,7 @@ def point_terms(robot, frame_id: int, offset):
 class ContactBase(GenericConstraint):
     """Something that owns an external wrench variable (point, surface or bilateral contact)."""
 
-    kind = "inequality"
+    kind = 'inequality'
     is_contact = True
 
     def __init__(self, name: str):
@@ -79,7 +101,7 @@ class ContactBase(GenericConstraint):
         return self.layout.wrench_slice(self.wrench_index)
 
     def get_wrench(self, x: np.ndarray) -> np.ndarray:
-        """This contact's wrench [force, torque] (world axes) in a reduced solution x."""
+        """Return this contact's wrench [force, torque] (world axes) in a reduced solution x."""
         return x[self.wrench_slice()].copy()
 
     def record_solution(self, x: np.ndarray) -> None:
@@ -90,9 +112,13 @@ class ContactBase(GenericConstraint):
 
 
 class NormalForceRamp:
-    """The normal force bound of a unilateral contact follows its activation ramp: switched on, from 0 up to
-    ``maximum_normal_force``; switched off, from the normal force it carried then down to 0 (the load moves to
-    the other contacts progressively before the contact is released)."""
+    """
+    The normal force bound of a unilateral contact follows its activation ramp.
+
+    Switched on, from 0 up to ``maximum_normal_force``; switched off, from the normal force it
+    carried then down to 0 (the load moves to the other contacts progressively before the contact
+    is released).
+    """
 
     maximum_normal_force = 1000.0
     _release_force = None  # normal force when the deactivation started
@@ -134,8 +160,10 @@ class Contact(NormalForceRamp, ContactBase):
         self.minimum_normal_force = 0.0
         self.offset = None if offset is None else np.asarray(offset, dtype=float).reshape(3)
         self._faces = None
-        self._written_C = self._written_faces = None  # what the constant rows were last written for
-        self.existence = ContactExistenceCondition(f"{name}_existence", self)
+        self._written_C = self._written_faces = (
+            None  # what the constant rows were last written for
+        )
+        self.existence = ContactExistenceCondition(f'{name}_existence', self)
         if frame is not None:
             self.set_contact_frame(frame)
         self._make_faces()
@@ -153,20 +181,28 @@ class Contact(NormalForceRamp, ContactBase):
 
     def set_margin(self, margin: float) -> None:
         if not (0.0 <= margin < self.mu):
-            raise ValueError(f"contact '{self.name}': margin must be in [0, mu = {self.mu}), got {margin}")
+            raise ValueError(
+                f"contact '{self.name}': margin must be in [0, mu = {self.mu}), got {margin}"
+            )
         self.margin = float(margin)
         self._make_faces()
 
     def set_number_of_faces(self, n: int) -> None:
         if int(n) < 3:
-            raise ValueError(f"contact '{self.name}': a friction pyramid needs at least 3 faces, got {n}")
+            raise ValueError(
+                f"contact '{self.name}': a friction pyramid needs at least 3 faces, got {n}"
+            )
         self.n_faces = int(n)
         self._make_faces()
         if self.layout is not None:
-            raise RuntimeError("set the number of faces before adding the contact to a controller")
+            raise RuntimeError('set the number of faces before adding the contact to a controller')
 
     def set_contact_normal(self, normal) -> None:
-        """Normal of the contact surface (pointing from the environment to the robot), world axes."""
+        """
+        Set the normal of the contact surface (pointing from the environment to the robot).
+
+        World axes.
+        """
         n = np.asarray(normal, dtype=float).reshape(3)
         if not np.all(np.isfinite(n)) or np.linalg.norm(n) < 1e-9:
             raise ValueError(f"contact '{self.name}': invalid normal {normal}")
@@ -211,9 +247,9 @@ class Contact(NormalForceRamp, ContactBase):
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
         nf = self.n_faces
-        # the cone rows and the wrench bounds change only with the settings (new faces), the rows' place in the
-        # plan (new views) and a switch-on (the plan relaxed the rows while off): rewritten then; every cycle
-        # only the normal force bound follows the ramp
+        # the cone rows and the wrench bounds change only with the settings (new faces), the rows'
+        # place in the plan (new views) and a switch-on (the plan relaxed the rows while off):
+        # rewritten then; every cycle only the normal force bound follows the ramp
         if self._written_C is not self.C or self._written_faces is not self._faces:
             computing = self.is_computing()
             ws = self.wrench_slice()
@@ -222,7 +258,8 @@ class Contact(NormalForceRamp, ContactBase):
             self.lb[:nf] = -np.inf
             self.ub[:nf] = 0.0
             self.C[nf, f] = self.normal
-            # force free (the rows above bound it), torque of a point contact zero; all zero when switched off
+            # force free (the rows above bound it), torque of a point contact zero; all zero when
+            # switched off
             free = np.inf if computing else 0.0
             self.wrench_lower[:3], self.wrench_upper[:3] = -free, free
             self.wrench_lower[3:], self.wrench_upper[3:] = 0.0, 0.0
@@ -234,10 +271,14 @@ class Contact(NormalForceRamp, ContactBase):
 
 
 class ContactExistenceCondition(GenericConstraint):
-    """While its contact is on, the contact does not move: J nu_dot + J_dot nu = 0 on the rows the contact gives
-    (:meth:`existence_terms`: the point's linear rows, or the 6 relative rows of a bilateral contact)."""
+    """
+    While its contact is on, the contact does not move.
 
-    kind = "equality"
+    J nu_dot + J_dot nu = 0 on the rows the contact gives (:meth:`existence_terms`: the point's
+    linear rows, or the 6 relative rows of a bilateral contact).
+    """
+
+    kind = 'equality'
 
     def __init__(self, name: str, contact):
         super().__init__(name)
@@ -250,7 +291,10 @@ class ContactExistenceCondition(GenericConstraint):
         return self.contact.existence_rows
 
     def update(self, current_time: float, dt: float) -> None:
-        self.state, self._ramp_factor = self.contact.state, self.contact.get_ramp_value()  # mirrors it
+        self.state, self._ramp_factor = (
+            self.contact.state,
+            self.contact.get_ramp_value(),
+        )  # mirrors it
         if not self.contact.is_computing():
             return
         J, bias = self.contact.existence_terms()
@@ -260,20 +304,32 @@ class ContactExistenceCondition(GenericConstraint):
 
 
 def surface_contact(name: str, frame: str, points, **settings) -> list[Contact]:
-    """A flat contact (a foot sole, a hand on a table) as unilateral point contacts at ``points`` (offsets in
-    the frame's axes, e.g. the sole's corners): wrenches at several points give the surface's centre of
-    pressure and torsional friction. ``settings``: friction_coefficient, margin, number_of_faces,
-    contact_normal, maximum_normal_force, ramp_duration. Add each returned contact to the controller."""
-    setters = {"number_of_faces": "set_number_of_faces", "friction_coefficient": "set_friction_coefficient",
-               "margin": "set_margin", "contact_normal": "set_contact_normal",
-               "maximum_normal_force": "set_maximum_normal_force", "ramp_duration": "set_ramp_duration"}
+    """
+    Make a flat contact (a foot sole, a hand on a table) of unilateral point contacts.
+
+    The points are at ``points`` (offsets in the frame's axes, e.g. the sole's corners):
+    wrenches at several points give the surface's centre of pressure and torsional friction.
+
+    ``settings``: friction_coefficient, margin, number_of_faces, contact_normal,
+    maximum_normal_force, ramp_duration. Add each returned contact to the controller.
+    """
+    setters = {
+        'number_of_faces': 'set_number_of_faces',
+        'friction_coefficient': 'set_friction_coefficient',
+        'margin': 'set_margin',
+        'contact_normal': 'set_contact_normal',
+        'maximum_normal_force': 'set_maximum_normal_force',
+        'ramp_duration': 'set_ramp_duration',
+    }
     unknown = set(settings) - set(setters)
     if unknown:
         raise ValueError(f"surface_contact '{name}': unknown settings {sorted(unknown)}")
     out = []
     for i, p in enumerate(points):
-        c = Contact(f"{name}_{i}", frame, offset=p)
-        for key in setters:  # in this order: the faces before the coefficient and margin that use them
+        c = Contact(f'{name}_{i}', frame, offset=p)
+        for (
+            key
+        ) in setters:  # in this order: the faces before the coefficient and margin that use them
             if key in settings:
                 getattr(c, setters[key])(settings[key])
         out.append(c)

@@ -1,11 +1,26 @@
-"""Linear constraints  lb <= C x <= ub  on the reduced QP variables x.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Linear constraints  lb <= C x <= ub  on the reduced QP variables x.
 
 ``kind`` tells the problem how to route the rows: "equality" (lb == ub, solver equality rows),
 "inequality" (general rows) or "box" (bounds on the joint-acceleration variables, merged with every
 other box constraint into the solver's variable bounds). An inactive constraint keeps its rows (the
-solver's sparsity pattern never changes) but they are relaxed: zero rows for equalities, infinite bounds
-otherwise.
+solver's sparsity pattern never changes) but they are relaxed: zero rows for equalities, infinite
+bounds otherwise.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -25,7 +40,7 @@ def _limit_vector(values, n: int, what: str, name: str) -> np.ndarray:
 
 
 class GenericConstraint(TaskBase):
-    kind = "inequality"
+    kind = 'inequality'
 
     def __init__(self, name: str):
         super().__init__(name)
@@ -55,7 +70,7 @@ class GenericConstraint(TaskBase):
 
     def violation(self, x: np.ndarray) -> float:
         """Largest violation of lb <= C x <= ub at x (0 when satisfied)."""
-        if self.kind == "box":
+        if self.kind == 'box':
             y = x[self.layout.joint_acc]
         else:
             y = self.C @ x
@@ -69,13 +84,14 @@ class GenericConstraint(TaskBase):
 
 
 class JointBoxConstraint(GenericConstraint):
-    """Bounds on the joint accelerations (C = [0 I 0] implicitly): lb <= q_ddot <= ub.
+    """
+    Bounds on the joint accelerations (C = [0 I 0] implicitly): lb <= q_ddot <= ub.
 
     ``hard`` boxes (acceleration limits) win over soft ones (kinematic predictions of position and
     velocity limits) when their bounds are incompatible.
     """
 
-    kind = "box"
+    kind = 'box'
     hard = False
 
     def rows(self) -> int:

@@ -1,25 +1,47 @@
-"""Joint torque, position, velocity and acceleration limits.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Joint torque, position, velocity and acceleration limits.
 
-Position and velocity limits are turned into acceleration bounds by predicting the motion over a horizon h:
+Position and velocity limits are turned into acceleration bounds by predicting the motion over a
+horizon h:
     q + h v + h^2/2 a in [q_min, q_max]   ->  a in 2/h^2 [q_min - q - h v, q_max - q - h v]
     v + h a in [v_min, v_max]              ->  a in 1/h [v_min - v, v_max - v]
 Position and velocity limits default to the URDF's values; torque limits to the URDF's efforts.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
-from .generic_constraint import GenericConstraint, JointBoxConstraint, _limit_vector
+from .generic_constraint import _limit_vector, GenericConstraint, JointBoxConstraint
 
 
 class _SymmetricLimitsMixin:
     def set_limits(self, lower, upper) -> None:
-        n = self.robot.get_nr_of_degrees_of_freedom() if self.robot is not None else np.asarray(lower).size
-        lo = _limit_vector(lower, n, "lower limit", self.name)
-        hi = _limit_vector(upper, n, "upper limit", self.name)
+        n = (
+            self.robot.get_nr_of_degrees_of_freedom()
+            if self.robot is not None
+            else np.asarray(lower).size
+        )
+        lo = _limit_vector(lower, n, 'lower limit', self.name)
+        hi = _limit_vector(upper, n, 'upper limit', self.name)
         if np.any(lo > hi):
-            raise ValueError(f"constraint '{self.name}': lower limit above upper limit at joints "
-                             f"{np.flatnonzero(lo > hi).tolist()}")
+            raise ValueError(
+                f"constraint '{self.name}': lower limit above upper limit at joints "
+                f'{np.flatnonzero(lo > hi).tolist()}'
+            )
         self._limits = (lo, hi)
 
     def get_limits(self):
@@ -90,8 +112,12 @@ class JointVelocityLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
         self.set_horizon(horizon)
 
     def set_horizon(self, horizon: float) -> None:
-        """Time to reach the limit. Never shorter than the control period; a one-period horizon makes the
-        bound bang-bang (full stop in one cycle) and often incompatible with the torque limits."""
+        """
+        Time to reach the limit.
+
+        Never shorter than the control period; a one-period horizon makes the bound bang-bang (full
+        stop in one cycle) and often incompatible with the torque limits.
+        """
         if not horizon > 0.0:
             raise ValueError(f"constraint '{self.name}': horizon must be > 0 s")
         self.horizon = float(horizon)

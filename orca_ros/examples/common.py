@@ -1,4 +1,22 @@
-"""Shared set-up of the examples: argument parsing, the arm model, the usual constraints, a simulator step."""
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Shared set-up of the examples.
+
+Argument parsing, the arm model, the usual constraints, a simulator step.
+"""
+
 from __future__ import annotations
 
 import argparse
@@ -8,6 +26,7 @@ import numpy as np
 from .. import (
     CartesianAccelerationPID,
     Controller,
+    default_urdf_path,
     JointPositionLimitConstraint,
     JointTorqueLimitConstraint,
     JointVelocityLimitConstraint,
@@ -16,18 +35,27 @@ from .. import (
     ResolutionStrategy,
     RobotModel,
     RobotState,
-    default_urdf_path,
 )
 
 
 def parse_args(description: str, argv=None, extra=None):
-    """``example [urdf] [-l level] [--solver daqp|proxqp|osqp] [--time-budget S] + extra options``."""
+    """
+    Parse the examples' command line.
+
+    ``example [urdf] [-l level] [--solver daqp|proxqp|osqp] [--time-budget S] + extra options``.
+    """
     rest = Logger.parse_argv(argv)
     parser = argparse.ArgumentParser(description=description)
-    parser.add_argument("urdf", nargs="?", default=None, help="robot URDF (default: the shipped lwr.urdf)")
-    parser.add_argument("--solver", default="daqp", choices=[s.value for s in QPSolver])
-    parser.add_argument("--time-budget", type=float, default=None,
-                        help="seconds each control cycle may spend solving (default: one control period)")
+    parser.add_argument(
+        'urdf', nargs='?', default=None, help='robot URDF (default: the shipped lwr.urdf)'
+    )
+    parser.add_argument('--solver', default='daqp', choices=[s.value for s in QPSolver])
+    parser.add_argument(
+        '--time-budget',
+        type=float,
+        default=None,
+        help='seconds each control cycle may spend solving (default: one control period)',
+    )
     if extra is not None:
         extra(parser)
     args = parser.parse_args(rest)
@@ -40,7 +68,7 @@ def make_robot(urdf: str):
     """Arm model in its base frame, with gravity, at q = 0 / v = 0; returns (robot, state)."""
     robot = RobotModel()
     robot.load_model_from_file(urdf)
-    robot.set_base_frame("base_link")
+    robot.set_base_frame('base_link')
     robot.set_gravity(np.array([0.0, 0.0, -9.81]))
     state = RobotState(robot.get_nr_of_degrees_of_freedom())
     state.set_zero()
@@ -48,13 +76,15 @@ def make_robot(urdf: str):
     return robot, state
 
 
-def make_controller(robot, solver: str = "daqp") -> Controller:
-    return Controller("controller", robot, ResolutionStrategy.ONE_LEVEL_WEIGHTED, QPSolver.from_string(solver))
+def make_controller(robot, solver: str = 'daqp') -> Controller:
+    return Controller(
+        'controller', robot, ResolutionStrategy.ONE_LEVEL_WEIGHTED, QPSolver.from_string(solver)
+    )
 
 
-def make_cartesian_servo(frame: str = "link_7", target=None) -> CartesianAccelerationPID:
-    """The reference examples' servo: P = 1000 (position) / 10 (orientation), D = 100 / 1."""
-    servo = CartesianAccelerationPID("servo_controller")
+def make_cartesian_servo(frame: str = 'link_7', target=None) -> CartesianAccelerationPID:
+    """Make the reference examples' servo: P = 1000 (position) / 10 (orientation), D = 100 / 1."""
+    servo = CartesianAccelerationPID('servo_controller')
     servo.pid().set_proportional_gain([1000, 1000, 1000, 10, 10, 10])
     servo.pid().set_derivative_gain([100, 100, 100, 1, 1, 1])
     servo.set_control_frame(frame)
@@ -63,23 +93,35 @@ def make_cartesian_servo(frame: str = "link_7", target=None) -> CartesianAcceler
     return servo
 
 
-def add_standard_constraints(controller: Controller, torque_max: float = 200.0, velocity_max: float = 2.0):
-    """Torque limits +-200 Nm (clipped to the URDF's efforts), URDF position limits, velocity limits."""
+def add_standard_constraints(
+    controller: Controller, torque_max: float = 200.0, velocity_max: float = 2.0
+):
+    """
+    Torque limits +-200 Nm (clipped to the URDF's efforts).
+
+    URDF position limits, velocity limits.
+    """
     n = controller.robot.get_nr_of_degrees_of_freedom()
-    trq = controller.add_constraint(JointTorqueLimitConstraint, "JointTorqueLimit")
+    trq = controller.add_constraint(JointTorqueLimitConstraint, 'JointTorqueLimit')
     urdf_effort = controller.robot.get_joint_torque_limits()
     tmax = np.minimum(np.full(n, torque_max), np.where(urdf_effort > 0, urdf_effort, np.inf))
     trq.set_limits(-tmax, tmax)
-    pos = controller.add_constraint(JointPositionLimitConstraint, "JointPositionLimit")
-    vel = controller.add_constraint(JointVelocityLimitConstraint, "JointVelocityLimit")
+    pos = controller.add_constraint(JointPositionLimitConstraint, 'JointPositionLimit')
+    vel = controller.add_constraint(JointVelocityLimitConstraint, 'JointVelocityLimit')
     vmax = np.minimum(np.full(n, velocity_max), controller.robot.get_joint_velocity_limits())
     vel.set_limits(-vmax, vmax)
     return trq, pos, vel
 
 
 def integrate(robot, q: np.ndarray, v: np.ndarray, tau: np.ndarray, dt: float):
-    """One step of the rigid-body dynamics under torques tau (as the reference's second example)."""
-    acc = np.linalg.solve(robot.get_mass_matrix(), tau - robot.get_joint_gravity_and_coriolis_torques())
+    """
+    Integrate one step of the rigid-body dynamics under torques tau.
+
+    As the reference's second example.
+    """
+    acc = np.linalg.solve(
+        robot.get_mass_matrix(), tau - robot.get_joint_gravity_and_coriolis_torques()
+    )
     q_new = q + v * dt + 0.5 * acc * dt * dt
     v_new = v + acc * dt
     return q_new, v_new

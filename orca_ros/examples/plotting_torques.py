@@ -1,5 +1,23 @@
-"""Plotting: run the controller for 1 s on the simulated arm and plot the joint torques (PNG; a window only
-with --show)."""
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Plotting.
+
+Run the controller for 1 s on the simulated arm and plot the joint torques (PNG; a window only with
+--show).
+"""
+
 from __future__ import annotations
 
 import os
@@ -7,7 +25,6 @@ import sys
 
 import numpy as np
 
-from .. import CartesianTask, make_transform, quat_from_rpy
 from .common import (
     add_standard_constraints,
     integrate,
@@ -16,14 +33,23 @@ from .common import (
     make_robot,
     parse_args,
 )
+from .. import CartesianTask, make_transform, quat_from_rpy
 
 
-def run(urdf: str, solver: str = "daqp", total_time: float = 1.0, dt: float = 0.001,
-        output: str = "plotting_torques.png", show: bool = False):
+def run(
+    urdf: str,
+    solver: str = 'daqp',
+    total_time: float = 1.0,
+    dt: float = 0.001,
+    output: str = 'plotting_torques.png',
+    show: bool = False,
+):
     robot, state = make_robot(urdf)
     controller = make_controller(robot, solver)
     target = make_transform([0.3, -0.5, 0.41], quat_from_rpy(np.pi, 0, 0))
-    controller.add_task(CartesianTask, "CartTask_EE").set_servo_controller(make_cartesian_servo("link_7", target))
+    controller.add_task(CartesianTask, 'CartTask_EE').set_servo_controller(
+        make_cartesian_servo('link_7', target)
+    )
     trq, _, _ = add_standard_constraints(controller)
     controller.activate_tasks_and_constraints()
     q, v = state.joint_pos.copy(), state.joint_vel.copy()
@@ -48,36 +74,41 @@ def run(urdf: str, solver: str = "daqp", total_time: float = 1.0, dt: float = 0.
     import matplotlib
 
     if not show:
-        matplotlib.use("Agg")
+        matplotlib.use('Agg')
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(9, 5))
     for j, name in enumerate(robot.get_joint_names()):
         ax.plot(times, torques[:, j], label=name)
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("joint torque [Nm]")
-    ax.set_title("Joint torques, Cartesian task on link_7")
+    ax.set_xlabel('time [s]')
+    ax.set_ylabel('joint torque [Nm]')
+    ax.set_title('Joint torques, Cartesian task on link_7')
     ax.grid(True)
-    ax.legend(loc="upper right", ncol=2)
+    ax.legend(loc='upper right', ncol=2)
     fig.tight_layout()
     os.makedirs(os.path.dirname(os.path.abspath(output)), exist_ok=True)
     fig.savefig(output, dpi=100)
     if show:
         plt.show()
     plt.close(fig)
-    return {"times": np.array(times), "torques": torques, "output": output, "tau_max": trq.get_limits()[1]}
+    return {
+        'times': np.array(times),
+        'torques': torques,
+        'output': output,
+        'tau_max': trq.get_limits()[1],
+    }
 
 
 def main(argv=None) -> int:
     def extra(p):
-        p.add_argument("--output", default="plotting_torques.png")
-        p.add_argument("--show", action="store_true", help="also open a plot window")
+        p.add_argument('--output', default='plotting_torques.png')
+        p.add_argument('--show', action='store_true', help='also open a plot window')
 
     args = parse_args(__doc__, argv, extra)
     res = run(args.urdf, args.solver, output=args.output, show=args.show)
-    print(f"wrote {res['output']} ({len(res['times'])} samples)")
-    return 0 if os.path.isfile(res["output"]) and np.all(np.isfinite(res["torques"])) else 1
+    print(f'wrote {res["output"]} ({len(res["times"])} samples)')
+    return 0 if os.path.isfile(res['output']) and np.all(np.isfinite(res['torques'])) else 1
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

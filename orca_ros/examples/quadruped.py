@@ -1,12 +1,31 @@
-"""A 12-DoF quadruped standing on four point contacts: stand, shift the base in a sinusoid, lift a foot.
-
-The controller (core API only): four unilateral contacts (friction pyramid, ramped normal force), a 6-D
-Cartesian task on the trunk in the world frame, a posture task, a swing-foot task used only while a foot is in
-the air, torque / position / velocity limits. :func:`run_in_pybullet` closes the loop on PyBullet and logs what
-the acceptance tests check (tracking, foot slip, cone margins, normal-force steps).
-
-Run: ``python -m orca_ros.examples.quadruped [--scenario stand|shift|lift|all] [--gui] [--solver osqp]``
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+A 12-DoF quadruped standing on four point contacts.
+
+stand, shift the base in a sinusoid, lift a foot.
+
+The controller (core API only): four unilateral contacts (friction pyramid, ramped normal force), a
+6-D Cartesian task on the trunk in the world frame, a posture task, a swing-foot task used only
+while a foot is in the air, torque / position / velocity limits. :func:`run_in_pybullet` closes the
+loop on PyBullet and logs what the acceptance tests check (tracking, foot slip, cone margins,
+normal-force steps).
+
+Run: ``python -m orca_ros.examples.quadruped [--scenario stand|shift|lift|all] [--gui] [--solver
+osqp]``
+"""
+
 from __future__ import annotations
 
 import argparse
@@ -30,21 +49,23 @@ from .. import (
     share_path,
 )
 
-LEGS = ("FL", "FR", "HL", "HR")
+LEGS = ('FL', 'FR', 'HL', 'HR')
 STAND_Q = np.tile([0.0, 0.7, -1.4], 4)  # feet under the hips
-STAND_HEIGHT = 0.2 * 2 * np.cos(0.7) + 0.02  # trunk origin above the ground: two 0.2 m segments + foot radius
+STAND_HEIGHT = (
+    0.2 * 2 * np.cos(0.7) + 0.02
+)  # trunk origin above the ground: two 0.2 m segments + foot radius
 GRAVITY = np.array([0.0, 0.0, -9.81])
 FOOT_RADIUS = 0.02
 
 
 def quadruped_urdf() -> str:
-    return share_path("urdf", "quadruped.urdf")
+    return share_path('urdf', 'quadruped.urdf')
 
 
 def make_robot(urdf: str | None = None) -> RobotModel:
-    robot = RobotModel("quadruped")
+    robot = RobotModel('quadruped')
     robot.load_model_from_file(urdf or quadruped_urdf(), floating_base=True)
-    robot.set_base_frame("world")
+    robot.set_base_frame('world')
     T = np.eye(4)
     T[2, 3] = STAND_HEIGHT
     robot.set_robot_state(T, STAND_Q, np.zeros(6), np.zeros(12), GRAVITY)
@@ -54,42 +75,53 @@ def make_robot(urdf: str | None = None) -> RobotModel:
 class QuadrupedController:
     """The standing controller and the handles the scenarios use."""
 
-    def __init__(self, robot: RobotModel, solver="daqp", mu: float = 0.8, margin: float = 0.1,
-                 contact_ramp: float = 0.2, strategy=ResolutionStrategy.ONE_LEVEL_WEIGHTED):
+    def __init__(
+        self,
+        robot: RobotModel,
+        solver='daqp',
+        mu: float = 0.8,
+        margin: float = 0.1,
+        contact_ramp: float = 0.2,
+        strategy=ResolutionStrategy.ONE_LEVEL_WEIGHTED,
+    ):
         self.robot = robot
-        c = self.controller = Controller("quadruped", robot, strategy, QPSolver.from_string(str(solver)))
+        c = self.controller = Controller(
+            'quadruped', robot, strategy, QPSolver.from_string(str(solver))
+        )
         self.contacts = {}
         for leg in LEGS:
-            ct = Contact(f"{leg}_contact", f"{leg}_foot")
+            ct = Contact(f'{leg}_contact', f'{leg}_foot')
             ct.set_friction_coefficient(mu)
             ct.set_margin(margin)
             ct.set_maximum_normal_force(300.0)
-            ct.set_ramp_duration(0.0)  # standing from the first cycle; later switches ramp (see update)
+            ct.set_ramp_duration(
+                0.0
+            )  # standing from the first cycle; later switches ramp (see update)
             self.contacts[leg] = c.add_constraint(ct)
         self.contact_ramp = contact_ramp
         self._started = False
-        self.base = c.add_task(CartesianTask, "base")
-        self.base.set_control_frame("trunk")
+        self.base = c.add_task(CartesianTask, 'base')
+        self.base.set_control_frame('trunk')
         pid = self.base.servo_controller().pid()
         pid.set_proportional_gain([900.0, 900.0, 900.0, 400.0, 400.0, 400.0])
         pid.set_derivative_gain([60.0, 60.0, 60.0, 40.0, 40.0, 40.0])
-        self.posture = c.add_task(JointAccelerationTask, "posture")
+        self.posture = c.add_task(JointAccelerationTask, 'posture')
         self.posture.set_weight(1e-3)
         self.posture.pid().set_proportional_gain(25.0)
         self.posture.pid().set_derivative_gain(10.0)
         self.posture.set_desired(STAND_Q)
         self.swing = {}
         for leg in LEGS:
-            t = c.add_task(CartesianTask, f"{leg}_swing")
-            t.set_control_frame(f"{leg}_foot")
+            t = c.add_task(CartesianTask, f'{leg}_swing')
+            t.set_control_frame(f'{leg}_foot')
             t.set_selection_vector([1, 1, 1, 0, 0, 0])
             t.servo_controller().pid().set_proportional_gain(900.0)
             t.servo_controller().pid().set_derivative_gain(60.0)
             t.set_ramp_duration(0.05)
             self.swing[leg] = t
-        self.torque_limit = c.add_constraint(JointTorqueLimitConstraint, "torque_limit")
-        c.add_constraint(JointPositionLimitConstraint, "position_limit")
-        c.add_constraint(JointVelocityLimitConstraint, "velocity_limit")
+        self.torque_limit = c.add_constraint(JointTorqueLimitConstraint, 'torque_limit')
+        c.add_constraint(JointPositionLimitConstraint, 'position_limit')
+        c.add_constraint(JointVelocityLimitConstraint, 'velocity_limit')
         for obj in [self.base, self.posture, self.torque_limit] + list(self.contacts.values()):
             obj.activate()
         for obj in c.get_constraints():
@@ -125,14 +157,18 @@ class RunLog:
     t: list = field(default_factory=list)
     base: list = field(default_factory=list)
     base_target: list = field(default_factory=list)
-    feet: list = field(default_factory=list)          # PyBullet foot (sphere centre) positions (4, 3)
-    slip: list = field(default_factory=list)          # PyBullet tangential velocity of the foot's lowest point (4, 2)
-    forces: list = field(default_factory=list)        # solution contact forces (4, 3)
-    bounds: list = field(default_factory=list)        # normal-force upper bounds (4,)
-    cone: list = field(default_factory=list)          # max over faces of d_k.f - mu_eff n.f (4,)
+    feet: list = field(default_factory=list)  # PyBullet foot (sphere centre) positions (4, 3)
+    slip: list = field(
+        default_factory=list
+    )  # PyBullet tangential velocity of the foot's lowest point (4, 2)
+    forces: list = field(default_factory=list)  # solution contact forces (4, 3)
+    bounds: list = field(default_factory=list)  # normal-force upper bounds (4,)
+    cone: list = field(default_factory=list)  # max over faces of d_k.f - mu_eff n.f (4,)
     tau: list = field(default_factory=list)
-    loaded: list = field(default_factory=list)        # contact fully on (activated) (4,)
-    dynamics: list = field(default_factory=list)      # max |M nu_dot + n - S^T tau - J_c^T w| of the solution
+    loaded: list = field(default_factory=list)  # contact fully on (activated) (4,)
+    dynamics: list = field(
+        default_factory=list
+    )  # max |M nu_dot + n - S^T tau - J_c^T w| of the solution
     failures: int = 0
 
     def arrays(self):
@@ -144,10 +180,12 @@ def _record(log, qc, sim_model, t, target):
     log.t.append(t)
     log.base.append(robot.get_world_to_base_transform()[:3, 3].copy())
     log.base_target.append(np.array(target))
-    log.feet.append(np.array([sim_model.get_link_position(f"{leg}_foot") for leg in LEGS]))
+    log.feet.append(np.array([sim_model.get_link_position(f'{leg}_foot') for leg in LEGS]))
     slip = []
-    for leg in LEGS:  # velocity of the sphere's material point touching the ground: v_c + w x (-r z)
-        lin, ang = sim_model.get_link_velocity(f"{leg}_foot")
+    for (
+        leg
+    ) in LEGS:  # velocity of the sphere's material point touching the ground: v_c + w x (-r z)
+        lin, ang = sim_model.get_link_velocity(f'{leg}_foot')
         slip.append((lin + np.cross(ang, [0.0, 0.0, -FOOT_RADIUS]))[:2])
     log.slip.append(slip)
     F = qc.contact_forces()
@@ -164,15 +202,19 @@ def dynamics_residual(controller) -> float:
     robot, lay = controller.robot, controller.layout
     sol = controller.get_solution()
     nv, nb = lay.nv, lay.nbase
-    acc, tau, w = sol[:nv], sol[nv + nb:nv + nv], sol[nv + nv:]
+    acc, tau, w = sol[:nv], sol[nv + nb: nv + nv], sol[nv + nv:]
     lhs = robot.get_mass_matrix() @ acc + robot.get_generalized_gravity_and_coriolis_torques()
     rhs = np.concatenate((np.zeros(nb), tau)) + lay.wrench_jacobian.T @ w
     return float(np.max(np.abs(lhs - rhs)))
 
 
 def sinusoid(s: float, amplitude: float, period: float, duration: float):
-    """(y, y', y'') of A sin(2 pi s / period) whose amplitude fades in over the first half period and out over
-    the last one (quintic envelope): the reference starts and ends at rest, with no step in velocity."""
+    """
+    Return (y, y', y'') of a sway that starts and ends at rest.
+
+    y = A sin(2 pi s / period) whose amplitude fades in over the first half period and out over the
+    last one (quintic envelope): the reference starts and ends at rest, with no step in velocity.
+    """
     w = 2 * np.pi / period
     half = period / 2
     sin, cos = np.sin(w * s), np.cos(w * s)
@@ -184,12 +226,24 @@ def sinusoid(s: float, amplitude: float, period: float, duration: float):
             de = sign * (30 * x**2 - 60 * x**3 + 30 * x**4) / half
             dde = (60 * x - 180 * x**2 + 120 * x**3) / half**2
     A = amplitude
-    return A * e * sin, A * (de * sin + e * w * cos), A * (dde * sin + 2 * de * w * cos - e * w * w * sin)
+    return (
+        A * e * sin,
+        A * (de * sin + e * w * cos),
+        A * (dde * sin + 2 * de * w * cos - e * w * w * sin),
+    )
 
 
-def run_in_pybullet(scenario: str = "all", solver="daqp", gui: bool = False, stand_time: float = 10.0,
-                    shift_time: float = 5.0, amplitude: float = 0.05, period: float = 2.0, lift: float = 0.05):
-    """Closed loop on PyBullet at 1 kHz; returns (log, phase boundaries dict)."""
+def run_in_pybullet(
+    scenario: str = 'all',
+    solver='daqp',
+    gui: bool = False,
+    stand_time: float = 10.0,
+    shift_time: float = 5.0,
+    amplitude: float = 0.05,
+    period: float = 2.0,
+    lift: float = 0.05,
+):
+    """Run the closed loop on PyBullet at 1 kHz; returns (log, phase boundaries dict)."""
     from ..sim import SimServer
 
     robot = make_robot()
@@ -199,48 +253,64 @@ def run_in_pybullet(scenario: str = "all", solver="daqp", gui: bool = False, sta
     log = RunLog()
     phases = {}
     with SimServer(gui=gui, time_step=0.001) as server:
-        sim = server.insert_model_from_urdf_file(quadruped_urdf(), position=home + [0, 0, 0.001], fixed_base=False)
+        sim = server.insert_model_from_urdf_file(
+            quadruped_urdf(), position=home + [0, 0, 0.001], fixed_base=False
+        )
         sim.set_model_configuration(robot.get_joint_names(), STAND_Q)
         names = robot.get_joint_names()
         assert sim.get_joint_names() == names
         dt = server.time_step
-        state = {"t": 0.0}
+        state = {'t': 0.0}
 
         def step(target, vel=None, acc=None):
-            t = state["t"]
-            robot.set_robot_state(sim.get_world_to_base_transform(), sim.get_joint_positions(),
-                                  sim.get_base_velocity(), sim.get_joint_velocities(), GRAVITY)
+            t = state['t']
+            robot.set_robot_state(
+                sim.get_world_to_base_transform(),
+                sim.get_joint_positions(),
+                sim.get_base_velocity(),
+                sim.get_joint_velocities(),
+                GRAVITY,
+            )
             qc.set_base_target(target, vel, acc)
             if not qc.update(t, dt):
                 log.failures += 1
             sim.set_joint_torque_command(c.get_joint_torque_command())
             server.step()
             _record(log, qc, sim, t, target)
-            state["t"] = t + dt
+            state['t'] = t + dt
 
         def hold(target, duration):
             for _ in range(int(round(duration / dt))):
                 step(target)
 
         # stand (the first 0.5 s settle the 1 mm drop)
-        phases["stand"] = (state["t"], state["t"] + (stand_time if scenario in ("stand", "all") else 1.0))
-        hold(home, phases["stand"][1] - phases["stand"][0])
-        if scenario in ("shift", "all"):
-            t0 = state["t"]
+        phases['stand'] = (
+            state['t'],
+            state['t'] + (stand_time if scenario in ('stand', 'all') else 1.0),
+        )
+        hold(home, phases['stand'][1] - phases['stand'][0])
+        if scenario in ('shift', 'all'):
+            t0 = state['t']
             for k in range(int(round(shift_time / dt))):
                 y, vy, ay = sinusoid(k * dt, amplitude, period, shift_time)
                 step(home + [0, y, 0], [0, vy, 0], [0, ay, 0])
-            phases["shift"] = (t0, state["t"])
+            phases['shift'] = (t0, state['t'])
             hold(home, 0.5)
-        if scenario in ("lift", "all"):
-            phases["lift"] = _lift_foot(qc, step, hold, home, state, dt, lift)
+        if scenario in ('lift', 'all'):
+            phases['lift'] = _lift_foot(qc, step, hold, home, state, dt, lift)
     return log, phases, qc
 
 
-def _lift_foot(qc, step, hold, home, state, dt, lift, leg="FL"):
-    """Move the base over the other three feet, unload and lift ``leg`` by ``lift``, set it down, reload."""
-    t0 = state["t"]
-    lean = home + np.array([-0.012, -0.012, 0.0])  # toward the opposite foot: CoM inside the triangle
+def _lift_foot(qc, step, hold, home, state, dt, lift, leg='FL'):
+    """
+    Move the base over the other three feet.
+
+    Unload and lift ``leg`` by ``lift``, set it down, reload.
+    """
+    t0 = state['t']
+    lean = home + np.array(
+        [-0.012, -0.012, 0.0]
+    )  # toward the opposite foot: CoM inside the triangle
     traj = MinJerkPositionTrajectory(0.5)
     traj.reset_trajectory(home, lean)
     for k in range(int(round(0.5 / dt))):
@@ -250,11 +320,11 @@ def _lift_foot(qc, step, hold, home, state, dt, lift, leg="FL"):
     contact.deactivate()
     while not contact.is_deactivated():
         step(lean)
-    foot0 = qc.robot.get_frame_pose(f"{leg}_foot")
+    foot0 = qc.robot.get_frame_pose(f'{leg}_foot')
     swing.servo_controller().set_desired(foot0)
     swing.activate()
     for up, duration in ((lift, 0.6), (-lift - 0.003, 0.6)):
-        start = qc.robot.get_frame_pose(f"{leg}_foot")[:3, 3] if up < 0 else foot0[:3, 3]
+        start = qc.robot.get_frame_pose(f'{leg}_foot')[:3, 3] if up < 0 else foot0[:3, 3]
         goal = foot0[:3, 3] + [0.0, 0.0, max(up, -0.003)]
         traj = MinJerkPositionTrajectory(duration)
         traj.reset_trajectory(start, goal)
@@ -277,37 +347,41 @@ def _lift_foot(qc, step, hold, home, state, dt, lift, leg="FL"):
         p, v, a = traj.get_desired(k * dt)
         step(p, v, a)
     hold(home, 0.5)
-    return (t0, state["t"])
+    return (t0, state['t'])
 
 
 def main(argv=None) -> int:
     rest = Logger.parse_argv(argv)
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--scenario", default="all", choices=["stand", "shift", "lift", "all"])
-    ap.add_argument("--solver", default="daqp", choices=[s.value for s in QPSolver])
-    ap.add_argument("--gui", action="store_true")
-    ap.add_argument("--stand-time", type=float, default=10.0)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    ap.add_argument('--scenario', default='all', choices=['stand', 'shift', 'lift', 'all'])
+    ap.add_argument('--solver', default='daqp', choices=[s.value for s in QPSolver])
+    ap.add_argument('--gui', action='store_true')
+    ap.add_argument('--stand-time', type=float, default=10.0)
     args = ap.parse_args(rest)
-    log, phases, _ = run_in_pybullet(args.scenario, args.solver, args.gui, stand_time=args.stand_time)
+    log, phases, _ = run_in_pybullet(
+        args.scenario, args.solver, args.gui, stand_time=args.stand_time
+    )
     report = summarize(log, phases)
     for k, v in report.items():
-        print(f"{k:<34}{v:.4g}" if isinstance(v, float) else f"{k:<34}{v}")
+        print(f'{k:<34}{v:.4g}' if isinstance(v, float) else f'{k:<34}{v}')
     return 0 if log.failures == 0 else 1
 
 
 def summarize(log: RunLog, phases: dict) -> dict:
     a = log.arrays()
-    t = a["t"]
-    out = {"QP failures": log.failures}
+    t = a['t']
+    out = {'QP failures': log.failures}
     for name, (t0, t1) in phases.items():
-        m = (t >= t0 + (0.5 if name == "stand" else 0.0)) & (t < t1)
-        err = np.linalg.norm(a["base"][m] - a["base_target"][m], axis=1)
-        out[f"{name}: base error rms [mm]"] = float(np.sqrt(np.mean(err ** 2)) * 1e3)
-        out[f"{name}: base error max [mm]"] = float(err.max() * 1e3)
-    out["max cone value [N] (<= 0 inside)"] = float(a["cone"].max())
-    out["max normal force step [N]"] = float(np.abs(np.diff(a["forces"][:, :, 2], axis=0)).max())
+        m = (t >= t0 + (0.5 if name == 'stand' else 0.0)) & (t < t1)
+        err = np.linalg.norm(a['base'][m] - a['base_target'][m], axis=1)
+        out[f'{name}: base error rms [mm]'] = float(np.sqrt(np.mean(err**2)) * 1e3)
+        out[f'{name}: base error max [mm]'] = float(err.max() * 1e3)
+    out['max cone value [N] (<= 0 inside)'] = float(a['cone'].max())
+    out['max normal force step [N]'] = float(np.abs(np.diff(a['forces'][:, :, 2], axis=0)).max())
     return out
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     raise SystemExit(main())

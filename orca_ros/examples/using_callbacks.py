@@ -1,5 +1,25 @@
-"""The callback system with bound methods: a TaskMonitor object is told when the Cartesian task starts and
-finishes activating, computes, and starts and finishes deactivating. The activation is ramped over 0.5 s."""
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+The callback system with bound methods.
+
+A TaskMonitor object is told when the Cartesian task starts and finishes activating, computes, and
+starts and finishes deactivating.
+
+The activation is ramped over 0.5 s.
+"""
+
 from __future__ import annotations
 
 import sys
@@ -7,8 +27,14 @@ import time
 
 import numpy as np
 
+from .common import (
+    add_standard_constraints,
+    make_cartesian_servo,
+    make_controller,
+    make_robot,
+    parse_args,
+)
 from .. import CartesianTask, make_transform, quat_from_rpy
-from .common import add_standard_constraints, make_cartesian_servo, make_controller, make_robot, parse_args
 
 
 class TaskMonitor:
@@ -25,37 +51,37 @@ class TaskMonitor:
         return self._deactivated
 
     def on_activation(self) -> None:
-        self.events.append("activation")
-        print("[TaskMonitor] activation started")
+        self.events.append('activation')
+        print('[TaskMonitor] activation started')
 
     def on_activated(self) -> None:
-        self.events.append("activated")
+        self.events.append('activated')
         self._activated = True
-        print("[TaskMonitor] activated")
+        print('[TaskMonitor] activated')
 
     def on_compute_begin(self, current_time: float, dt: float) -> None:
         self.compute_calls += 1
-        print(f"[TaskMonitor] compute begin  t={current_time:.2f} dt={dt:.2f}")
+        print(f'[TaskMonitor] compute begin  t={current_time:.2f} dt={dt:.2f}')
 
     def on_compute_end(self, current_time: float, dt: float) -> None:
-        print(f"[TaskMonitor] compute end    t={current_time:.2f} dt={dt:.2f}")
+        print(f'[TaskMonitor] compute end    t={current_time:.2f} dt={dt:.2f}')
 
     def on_deactivation(self) -> None:
-        self.events.append("deactivation")
-        print("[TaskMonitor] deactivation started")
+        self.events.append('deactivation')
+        print('[TaskMonitor] deactivation started')
 
     def on_deactivated(self) -> None:
-        self.events.append("deactivated")
+        self.events.append('deactivated')
         self._deactivated = True
-        print("[TaskMonitor] deactivated")
+        print('[TaskMonitor] deactivated')
 
 
-def run(urdf: str, solver: str = "daqp", dt: float = 0.1, ramp: float = 0.5, delay_s: float = 0.0):
+def run(urdf: str, solver: str = 'daqp', dt: float = 0.1, ramp: float = 0.5, delay_s: float = 0.0):
     robot, _ = make_robot(urdf)
     controller = make_controller(robot, solver)
     target = make_transform([0.3, -0.5, 0.41], quat_from_rpy(np.pi, 0, 0))
-    cart_task = controller.add_task(CartesianTask, "CartTask_EE")
-    cart_task.set_servo_controller(make_cartesian_servo("link_7", target))
+    cart_task = controller.add_task(CartesianTask, 'CartTask_EE')
+    cart_task.set_servo_controller(make_cartesian_servo('link_7', target))
     cart_task.set_ramp_duration(ramp)
     add_standard_constraints(controller)
     monitor = TaskMonitor()
@@ -80,17 +106,23 @@ def run(urdf: str, solver: str = "daqp", dt: float = 0.1, ramp: float = 0.5, del
         weights.append((t, cart_task.get_effective_weight()))
         t += dt
         time.sleep(delay_s)
-    return {"events": monitor.events, "compute_calls": monitor.compute_calls, "weights": weights,
-            "deactivated": controller.tasks_and_constraints_deactivated()}
+    return {
+        'events': monitor.events,
+        'compute_calls': monitor.compute_calls,
+        'weights': weights,
+        'deactivated': controller.tasks_and_constraints_deactivated(),
+    }
 
 
 def main(argv=None) -> int:
-    args = parse_args(__doc__, argv, lambda p: p.add_argument("--delay-ms", type=float, default=0.0))
+    args = parse_args(
+        __doc__, argv, lambda p: p.add_argument('--delay-ms', type=float, default=0.0)
+    )
     res = run(args.urdf, args.solver, delay_s=args.delay_ms / 1000.0)
-    print("events:", " -> ".join(res["events"]))
-    expected = ["activation", "activated", "deactivation", "deactivated"]
-    return 0 if res["events"] == expected and res["deactivated"] else 1
+    print('events:', ' -> '.join(res['events']))
+    expected = ['activation', 'activated', 'deactivation', 'deactivated']
+    return 0 if res['events'] == expected and res['deactivated'] else 1
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

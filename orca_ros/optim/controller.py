@@ -1,23 +1,32 @@
-"""The whole-body controller: tasks + constraints -> one QP per cycle -> joint torques.
-
-Every ``update(t, dt)``: the robot terms are refreshed once, each task and constraint recomputes its
-matrices, the problem is assembled into preallocated arrays and solved (warm-started). Adding or removing
-a task/constraint marks the structure dirty; the problem (sizes, solver, sparsity) is rebuilt at the next
-update only then.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+The whole-body controller: tasks + constraints -> one QP per cycle -> joint torques.
+
+Every ``update(t, dt)``: the robot terms are refreshed once, each task and constraint recomputes
+its matrices, the problem is assembled into preallocated arrays and solved (warm-started). Adding
+or removing a task/constraint marks the structure dirty; the problem (sizes, solver, sparsity) is
+rebuilt at the next update only then.
+"""
+
 from __future__ import annotations
 
-from typing import Callable
-
 import time
+from typing import Callable
 
 import numpy as np
 
-from ..constraint.dynamics_equation_constraint import DynamicsEquationConstraint
-from ..constraint.generic_constraint import GenericConstraint
-from ..task.generic_task import GenericTask
-from ..task.regularisation_task import RegularisationTask
-from ..utils.logger import get_logger
 from .cycle_plan import CyclePlan
 from .describe import describe_controller
 from .generalized import GeneralizedPriorities
@@ -26,15 +35,25 @@ from .problem_layout import ProblemLayout
 from .resolution_strategy import ResolutionStrategy
 from .solvers import QPSolver, ReturnCode
 from .weighted_problem import WeightedProblem
+from ..constraint.dynamics_equation_constraint import DynamicsEquationConstraint
+from ..constraint.generic_constraint import GenericConstraint
+from ..task.generic_task import GenericTask
+from ..task.regularisation_task import RegularisationTask
+from ..utils.logger import get_logger
 
-_LOG = get_logger("controller")
+_LOG = get_logger('controller')
 
 
 class Controller:
-    def __init__(self, name: str, robot, resolution_strategy=ResolutionStrategy.ONE_LEVEL_WEIGHTED,
-                 solver=QPSolver.DAQP):
-        if robot is None or getattr(robot, "model", None) is None:
-            raise ValueError("Controller needs a RobotModel with a loaded URDF")
+    def __init__(
+        self,
+        name: str,
+        robot,
+        resolution_strategy=ResolutionStrategy.ONE_LEVEL_WEIGHTED,
+        solver=QPSolver.DAQP,
+    ):
+        if robot is None or getattr(robot, 'model', None) is None:
+            raise ValueError('Controller needs a RobotModel with a loaded URDF')
         if isinstance(resolution_strategy, str):
             resolution_strategy = ResolutionStrategy.from_string(resolution_strategy)
         if isinstance(solver, str):
@@ -47,8 +66,10 @@ class Controller:
         self._tasks: list[GenericTask] = []
         self._constraints: list[GenericConstraint] = []
         self._problems: list[WeightedProblem] = []
-        self._references: list[WeightedProblem | None] = []  # GENERALIZED: weighted reference per level
-        self._level_tasks: list[list[GenericTask]] = []      # the user tasks of each level
+        self._references: list[
+            WeightedProblem | None
+        ] = []  # GENERALIZED: weighted reference per level
+        self._level_tasks: list[list[GenericTask]] = []  # the user tasks of each level
         self.priorities = GeneralizedPriorities()
         self._dirty = True
         self.dropped_levels = 0  # lower priority levels dropped because they could not be solved
@@ -65,8 +86,8 @@ class Controller:
         self._acc = np.zeros(self.layout.nv)
         self._x = np.zeros(self.layout.nx)
         # always present, always active: the equation of motion and a small regularisation
-        self.global_regularisation = RegularisationTask("GlobalRegularisation")
-        self.dynamics_constraint = DynamicsEquationConstraint("DynamicsEquation")
+        self.global_regularisation = RegularisationTask('GlobalRegularisation')
+        self.dynamics_constraint = DynamicsEquationConstraint('DynamicsEquation')
         self._internal = (self.global_regularisation, self.dynamics_constraint)
         self._attach(self.global_regularisation)
         self._attach(self.dynamics_constraint)
@@ -81,15 +102,23 @@ class Controller:
         obj.resize(self.layout)
 
     def _add(self, obj, name, base, what: str, into: list):
-        """Instantiate ``obj`` from its class and ``name`` if needed, check it and attach it to the robot."""
+        """
+        Instantiate ``obj`` from its class and ``name`` if needed.
+
+        Check it and attach it to the robot.
+        """
         if isinstance(obj, type):
             if name is None:
-                raise ValueError(f"add_{what}({obj.__name__}, name): a name is needed to build the {what}")
+                raise ValueError(
+                    f'add_{what}({obj.__name__}, name): a name is needed to build the {what}'
+                )
             obj = obj(name)
         if not isinstance(obj, base):
-            raise TypeError(f"add_{what} expects a {what}, got {type(obj).__name__}")
+            raise TypeError(f'add_{what} expects a {what}, got {type(obj).__name__}')
         if any(o.name == obj.name for o in self._tasks + self._constraints):
-            raise ValueError(f"controller '{self.name}': a task or constraint named '{obj.name}' already exists")
+            raise ValueError(
+                f"controller '{self.name}': a task or constraint named '{obj.name}' already exists"
+            )
         self._attach(obj)
         obj._owner = self
         into.append(obj)
@@ -97,34 +126,46 @@ class Controller:
         return obj
 
     def add_task(self, task, name: str | None = None, level: int | None = None):
-        """Add a task instance, or build one from its class and name. Returns the task."""
-        task = self._add(task, name, GenericTask, "task", self._tasks)
+        """
+        Add a task instance, or build one from its class and name.
+
+        Returns the task.
+        """
+        task = self._add(task, name, GenericTask, 'task', self._tasks)
         if level is not None:
             task.set_priority_level(level)
         return task
 
     def add_constraint(self, constraint, name: str | None = None):
-        """Add a constraint instance, or build one from its class and name. Returns the constraint.
-        A contact brings its wrench variables (6 more QP variables) and its existence condition."""
-        c = self._add(constraint, name, GenericConstraint, "constraint", self._constraints)
-        if getattr(c, "is_contact", False):
+        """
+        Add a constraint instance, or build one from its class and name.
+
+        Returns the constraint. A contact brings its wrench variables (6 more QP variables) and its
+        existence condition.
+        """
+        c = self._add(constraint, name, GenericConstraint, 'constraint', self._constraints)
+        if getattr(c, 'is_contact', False):
             for part in c.parts():
-                self._add(part, None, GenericConstraint, "constraint", self._constraints)
+                self._add(part, None, GenericConstraint, 'constraint', self._constraints)
             self._set_contacts()
         return c
 
     def add_contact(self, contact):
-        """Same as add_constraint, for contacts."""
-        if not getattr(contact, "is_contact", False):
-            raise TypeError(f"add_contact expects a contact, got {type(contact).__name__}")
+        """Add a contact (as add_constraint does for constraints)."""
+        if not getattr(contact, 'is_contact', False):
+            raise TypeError(f'add_contact expects a contact, got {type(contact).__name__}')
         return self.add_constraint(contact)
 
     def get_contacts(self) -> list:
         return list(self.layout.contacts)
 
     def _set_contacts(self) -> None:
-        """Re-layout the QP variables for the current contacts and resize every task and constraint."""
-        self.layout.set_contacts([c for c in self._constraints if getattr(c, "is_contact", False)])
+        """
+        Re-layout the QP variables for the current contacts.
+
+        Every task and constraint is resized.
+        """
+        self.layout.set_contacts([c for c in self._constraints if getattr(c, 'is_contact', False)])
         for obj in self._tasks + self._constraints:
             obj.resize(self.layout)
         self._x = np.zeros(self.layout.nx)
@@ -136,23 +177,37 @@ class Controller:
         self._dirty = True
 
     def set_priority(self, high: str, low: str, value: float) -> None:
-        """GENERALIZED: priority in [0, 1] of task ``high`` over task ``low`` (0 weighted, 1 strict); may
-        change every cycle. ``high`` must sit on a higher level (smaller number) than ``low``."""
+        """
+        GENERALIZED.
+
+        Priority in [0, 1] of task ``high`` over task ``low`` (0 weighted, 1 strict); may change
+        every cycle.
+
+        ``high`` must sit on a higher level (smaller number) than ``low``.
+        """
         if self.resolution_strategy is not ResolutionStrategy.GENERALIZED:
-            raise ValueError(f"controller '{self.name}': priority values need the GENERALIZED strategy "
-                             f"(this one is {self.resolution_strategy.value})")
+            raise ValueError(
+                f"controller '{self.name}': priority values need the GENERALIZED strategy "
+                f'(this one is {self.resolution_strategy.value})'
+            )
         th, tl = self.get_task(high), self.get_task(low)
         if not th.level < tl.level:
-            raise ValueError(f"set_priority('{high}', '{low}'): '{high}' (level {th.level}) must be on a "
-                             f"higher level than '{low}' (level {tl.level})")
+            raise ValueError(
+                f"set_priority('{high}', '{low}'): '{high}' (level {th.level}) must be on a "
+                f"higher level than '{low}' (level {tl.level})"
+            )
         self.priorities.set(high, low, value)
 
     def set_priority_matrix(self, names, matrix) -> None:
-        """GENERALIZED: matrix[i][j] = priority of task names[i] over names[j]; only entries with
-        level(i) < level(j) are read, the rest must be left at 0 or 1 (ignored)."""
+        """
+        GENERALIZED.
+
+        matrix[i][j] = priority of task names[i] over names[j]; only entries with level(i) <
+        level(j) are read, the rest must be left at 0 or 1 (ignored).
+        """
         m = np.asarray(matrix, dtype=float)
         if m.shape != (len(names), len(names)):
-            raise ValueError(f"priority matrix must be {len(names)}x{len(names)}, got {m.shape}")
+            raise ValueError(f'priority matrix must be {len(names)}x{len(names)}, got {m.shape}')
         for i, hi in enumerate(names):
             for j, lo in enumerate(names):
                 if self.get_task(hi).level < self.get_task(lo).level:
@@ -164,7 +219,7 @@ class Controller:
     def remove_constraint(self, name: str) -> None:
         c = self.get_constraint(name)
         self._constraints.remove(c)
-        if getattr(c, "is_contact", False):
+        if getattr(c, 'is_contact', False):
             for part in c.parts():
                 self._constraints.remove(part)
             self._set_contacts()
@@ -195,14 +250,26 @@ class Controller:
     def remove_coriolis_torques_from_solution(self, do_remove: bool) -> None:
         self._remove_coriolis = bool(do_remove)
 
-    def set_solver_budget(self, time_budget: float | None = None, max_iterations: int | None = None) -> None:
-        """Bound every cycle's solves: ``time_budget`` seconds for the whole cycle (None: one control period,
-        the dt given to update) and at most ``max_iterations`` solver iterations per solve (None: the
-        solver's default). A problem the solvers cannot solve within the budget fails with its ReturnCode."""
+    def set_solver_budget(
+        self, time_budget: float | None = None, max_iterations: int | None = None
+    ) -> None:
+        """
+        Bound every cycle's solves.
+
+        ``time_budget`` seconds for the whole cycle (None: one control period, the dt given to
+        update) and at most ``max_iterations`` solver iterations per solve (None: the solver's
+        default).
+
+        A problem the solvers cannot solve within the budget fails with its ReturnCode.
+        """
         if time_budget is not None and not (np.isfinite(time_budget) and time_budget > 0.0):
-            raise ValueError(f"controller '{self.name}': time budget must be > 0 s, got {time_budget}")
+            raise ValueError(
+                f"controller '{self.name}': time budget must be > 0 s, got {time_budget}"
+            )
         if max_iterations is not None and int(max_iterations) < 1:
-            raise ValueError(f"controller '{self.name}': max_iterations must be >= 1, got {max_iterations}")
+            raise ValueError(
+                f"controller '{self.name}': max_iterations must be >= 1, got {max_iterations}"
+            )
         self._time_budget = None if time_budget is None else float(time_budget)
         self._max_iterations = None if max_iterations is None else int(max_iterations)
 
@@ -210,52 +277,84 @@ class Controller:
         return self._time_budget, self._max_iterations
 
     def set_update_callback(self, cb: Callable[[float, float], None]) -> None:
-        """Called at the end of every update(t, dt)."""
+        """Set the callback called at the end of every update(t, dt)."""
         self._update_cb = cb
 
     on_update_callback = set_update_callback
 
     def _configure(self) -> None:
-        """Compile the stack: one CyclePlan (stacked rows of every object) and the problem of each level."""
+        """
+        Compile the stack.
+
+        One CyclePlan (stacked rows of every object) and the problem of each level.
+        """
         user = self.get_tasks()
         one_level = self.resolution_strategy is ResolutionStrategy.ONE_LEVEL_WEIGHTED
         levels = [0] if one_level else (sorted({t.level for t in user}) or [0])
-        self._level_tasks = [user] if one_level else [[t for t in user if t.level == lev] for lev in levels]
-        plan = self._plan = CyclePlan(self.layout, self._level_tasks, self.global_regularisation,
-                                      self._constraints)
+        self._level_tasks = (
+            [user] if one_level else [[t for t in user if t.level == lev] for lev in levels]
+        )
+        plan = self._plan = CyclePlan(
+            self.layout, self._level_tasks, self.global_regularisation, self._constraints
+        )
         generalized = self.resolution_strategy is ResolutionStrategy.GENERALIZED
         self._problems, self._references = [], []
         for i, lev in enumerate(levels):
             own_diag = plan.diagonal[i]
             above_diag = [t for d in plan.diagonal[:i] for t in d]
             if i == 0:
-                self._problems.append(WeightedProblem(plan, plan.level_rows[0], self.solver, level=lev,
-                                                      diagonal_tasks=own_diag))
+                self._problems.append(
+                    WeightedProblem(
+                        plan, plan.level_rows[0], self.solver, level=lev, diagonal_tasks=own_diag
+                    )
+                )
                 self._references.append(None)
                 continue
-            # levels in order, each weighted inside, each keeping (some of) the optimum of the levels above;
-            # GENERALIZED: the costs of the levels above stay in the level (constant when locked)
+            # levels in order, each weighted inside, each keeping (some of) the optimum of the
+            # levels above; GENERALIZED: the costs of the levels above stay in the level (constant
+            # when locked)
             above = [t for t in user if t.level < lev]
             cost = plan.prefix_rows[i] if generalized else plan.level_rows[i]
             cost_diag = above_diag + own_diag if generalized else own_diag
-            self._problems.append(LowerLevelProblem(plan, cost, self.solver, level=lev, locked_tasks=above,
-                                                    diagonal_tasks=cost_diag))
-            self._references.append(WeightedProblem(plan, plan.prefix_rows[i], self.solver, level=lev,
-                                                    diagonal_tasks=above_diag + own_diag)
-                                    if generalized else None)
+            self._problems.append(
+                LowerLevelProblem(
+                    plan,
+                    cost,
+                    self.solver,
+                    level=lev,
+                    locked_tasks=above,
+                    diagonal_tasks=cost_diag,
+                )
+            )
+            self._references.append(
+                WeightedProblem(
+                    plan,
+                    plan.prefix_rows[i],
+                    self.solver,
+                    level=lev,
+                    diagonal_tasks=above_diag + own_diag,
+                )
+                if generalized
+                else None
+            )
         # objects without rows for this robot have nothing to compute
-        self._updated = [o for o in self._tasks + self._constraints
-                         if o.rows() > 0 or getattr(o, "is_contact", False)]  # contacts: ramps
+        self._updated = [
+            o
+            for o in self._tasks + self._constraints
+            if o.rows() > 0 or getattr(o, 'is_contact', False)
+        ]  # contacts: ramps
         self._dirty = False
 
     def get_problem_at_level(self, level: int = 0) -> WeightedProblem:
-        """The QP of priority level ``level`` (its per-level solution is ``.x``)."""
+        """Return the QP of priority level ``level`` (its per-level solution is ``.x``)."""
         if self._dirty:
             self._configure()
         for p in self._problems:
             if p.level == level:
                 return p
-        raise KeyError(f"controller '{self.name}': no priority level {level} (levels: {self.get_levels()})")
+        raise KeyError(
+            f"controller '{self.name}': no priority level {level} (levels: {self.get_levels()})"
+        )
 
     # -------------------------------------------------------------- activation
     def activate_tasks_and_constraints(self) -> None:
@@ -271,10 +370,18 @@ class Controller:
 
     # -------------------------------------------------------------- cycle
     def update(self, current_time: float, dt: float) -> bool:
-        """Recompute everything for the robot's current state and solve; True when a solution was found."""
+        """
+        Recompute everything for the robot's current state and solve.
+
+        True when a solution was found.
+        """
         self._solution_found = False
-        deadline = time.perf_counter() + (self._time_budget if self._time_budget is not None else dt)
-        if self._dirty:  # a configuration cycle: solver workspaces are set up, its solves are not time-bounded
+        deadline = time.perf_counter() + (
+            self._time_budget if self._time_budget is not None else dt
+        )
+        if (
+            self._dirty
+        ):  # a configuration cycle: solver workspaces are set up, its solves are not time-bounded
             self._configure()
             deadline = None
         self.layout.update()
@@ -295,13 +402,19 @@ class Controller:
             self._make_command()
             self._solution_found = True
         else:
-            _LOG.debug("controller '%s': no solution at t=%.4f (%s)", self.name, current_time, code.value)
+            _LOG.debug(
+                "controller '%s': no solution at t=%.4f (%s)", self.name, current_time, code.value
+            )
         if self._update_cb is not None:
             self._update_cb(current_time, dt)
         return self._solution_found
 
     def _solve_levels(self, deadline: float | None):
-        """Solve the level(s) in priority order; returns the problem holding the final solution and its code."""
+        """
+        Solve the level(s) in priority order.
+
+        Returns the problem holding the final solution and its code.
+        """
         problems = self._problems
         x_above = None
         solved = problems[0]
@@ -322,10 +435,16 @@ class Controller:
             if code is not ReturnCode.SUCCESS:
                 if i == 0:
                     return problem, code
-                # lower levels are feasible by construction (see lower_level_problem); should a solver still
-                # fail, the level is dropped for this cycle: the solution above satisfies every constraint
-                _LOG.debug("controller '%s': level %d not solved (%s), keeping level %d's solution",
-                           self.name, problem.level, code.value, solved.level)
+                # lower levels are feasible by construction (see lower_level_problem); should a
+                # solver still fail, the level is dropped for this cycle: the solution above
+                # satisfies every constraint
+                _LOG.debug(
+                    "controller '%s': level %d not solved (%s), keeping level %d's solution",
+                    self.name,
+                    problem.level,
+                    code.value,
+                    solved.level,
+                )
                 self.dropped_levels += 1
                 return solved, ReturnCode.SUCCESS
             x_above, solved = problem.x, problem
@@ -362,26 +481,37 @@ class Controller:
         return self._acc[self.layout.joint_acc].copy()
 
     def get_reduced_solution(self) -> np.ndarray:
-        """The solver's own variables x = [nu_dot, wrenches]."""
+        """Return the solver's own variables x = [nu_dot, wrenches]."""
         return self._x.copy()
 
     def get_solution(self) -> np.ndarray:
-        """Full solution [base acc, joint acc, base torque, joint torque, wrenches] (base parts empty for
-        a fixed base). Torques here are the full dynamic torques, before any gravity/Coriolis removal."""
+        """
+        Return the full solution [base acc, joint acc, base torque, joint torque, wrenches].
+
+        The base parts are empty for a fixed base.
+
+        Torques here are the full dynamic torques, before any gravity/Coriolis removal.
+        """
         lay = self.layout
         nb = lay.nbase
         return np.concatenate((self._acc, np.zeros(nb), self._tau, self._x[lay.wrench]))
 
     def compute_kkt_torques(self) -> np.ndarray:
-        """Torques of the equality-only problem (tasks + equalities, no inequality or box constraints),
-        from the matrices of the last update. A usable fallback when the QP has no solution."""
+        """
+        Return the torques of the equality-only problem.
+
+        Tasks and equalities, no inequality or box constraints, from the matrices of the last
+        update.
+
+        A usable fallback when the QP has no solution.
+        """
         if self._dirty:
             self._configure()
         x = self._problems[-1].solve_equality_only()
         tau = self.layout.T @ x + self.layout.t0
         return tau
 
-    def print(self) -> None:
+    def print(self) -> None:  # noqa: A003 (ORCA API name)
         print(self.describe())
 
     def describe(self) -> str:

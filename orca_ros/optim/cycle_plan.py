@@ -1,23 +1,42 @@
-"""The compiled control cycle: every task's and constraint's rows stacked once, at configuration.
-
-When the controller's structure changes (a task or constraint added or removed, a level changed, contacts
-re-laid out), :class:`CyclePlan` allocates the stacked arrays of the whole problem and hands each object *views*
-on its own rows:
-
-* task rows ``E`` (rows x nx), ``f``, one weight per row ``w`` (weight x ramp x selection), ordered level by
-  level so that the rows of a level, and of every level down to it, are contiguous slices. Tasks whose E
-  selects variables (posture, regularisation: ``diagonal_columns``) are not stacked: they add to the
-  Hessian's diagonal, from ``ws`` (weight x selection) and ``wsf`` (ws x f) refreshed here;
-* constraint rows in the layout of the default solver (DAQP): one matrix ``M = [A; C]`` and one bound vector
-  per side, ``lo = [lbox; b; l]`` and ``hi = [ubox; b; u]``, with ``A, C, b, l, u, lbox, ubox`` views on them
-  (the equalities' right-hand side is copied into ``hi`` once per cycle);
-* variable bounds ``lbox <= x <= ubox``, merged once per cycle from the joint box constraints and the contacts.
-
-Every cycle each object writes its values in place (no allocation); :meth:`update` refreshes the row weights and
-the variable bounds, and relaxes the rows of constraints that just switched off; each priority level's problem
-then forms its Hessian and gradient from its slice with two BLAS calls (see ``WeightedProblem.build``). The
-constraints are filled once per cycle and shared by every level.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+The compiled control cycle: every task's and constraint's rows stacked once, at configuration.
+
+When the controller's structure changes (a task or constraint added or removed, a level changed,
+contacts re-laid out), :class:`CyclePlan` allocates the stacked arrays of the whole problem and
+hands each object *views* on its own rows:
+
+* task rows ``E`` (rows x nx), ``f``, one weight per row ``w`` (weight x ramp x selection), ordered
+  level by level so that the rows of a level, and of every level down to it, are contiguous slices.
+  Tasks whose E selects variables (posture, regularisation: ``diagonal_columns``) are not stacked:
+  they add to the Hessian's diagonal, from ``ws`` (weight x selection) and ``wsf`` (ws x f)
+  refreshed here;
+* constraint rows in the layout of the default solver (DAQP): one matrix ``M = [A; C]`` and one
+  bound vector per side, ``lo = [lbox; b; l]`` and ``hi = [ubox; b; u]``, with ``A, C, b, l, u,
+  lbox, ubox`` views on them (the equalities' right-hand side is copied into ``hi`` once per
+  cycle);
+* variable bounds ``lbox <= x <= ubox``, merged once per cycle from the joint box constraints and
+  the contacts.
+
+Every cycle each object writes its values in place (no allocation); :meth:`update` refreshes the
+row weights and the variable bounds, and relaxes the rows of constraints that just switched off;
+each priority level's problem then forms its Hessian and gradient from its slice with two BLAS
+calls (see ``WeightedProblem.build``). The constraints are filled once per cycle and shared by
+every level.
+"""
+
 from __future__ import annotations
 
 import numpy as np
@@ -35,8 +54,13 @@ def _stack(objects, width: int, rows_of):
 
 class CyclePlan:
     def __init__(self, layout, levels, regularisation, constraints):
-        """``levels``: the user tasks of each priority level, highest first (one entry for a single weighted
-        level); ``regularisation``: the global regularisation task (identity rows, kept as a diagonal)."""
+        """
+        ``levels``.
+
+        The user tasks of each priority level, highest first (one entry for a single weighted
+        level); ``regularisation``: the global regularisation task (identity rows, kept as a
+        diagonal).
+        """
         self.layout = layout
         nx = layout.nx
         self.regularisation = regularisation
@@ -52,7 +76,8 @@ class CyclePlan:
             self.E[rows] = t.E
             self.f[rows] = t.f
             t.E, t.f = self.E[rows], self.f[rows]
-        # diagonal tasks (every level's problem has the regularisation): per-task ws and wsf buffers
+        # diagonal tasks (every level's problem has the regularisation): per-task ws and wsf
+        # buffers
         self.diagonal_tasks = [regularisation] + [t for lev in self.diagonal for t in lev]
         self.ws = {id(t): np.zeros(t.rows()) for t in self.diagonal_tasks}
         self._weight_keys = [None] * len(tasks)
@@ -67,11 +92,11 @@ class CyclePlan:
             self.prefix_rows.append(slice(0, k))
         # constraints: objects without rows for this robot cost nothing at run time
         with_rows = [c for c in constraints if c.rows() > 0]
-        self.eq = [c for c in with_rows if c.kind == "equality"]
-        self.ineq = [c for c in with_rows if c.kind == "inequality"]
-        self.soft_box = [c for c in with_rows if c.kind == "box" and not c.hard]
-        self.hard_box = [c for c in with_rows if c.kind == "box" and c.hard]
-        self.contacts = [c for c in constraints if getattr(c, "is_contact", False)]
+        self.eq = [c for c in with_rows if c.kind == 'equality']
+        self.ineq = [c for c in with_rows if c.kind == 'inequality']
+        self.soft_box = [c for c in with_rows if c.kind == 'box' and not c.hard]
+        self.hard_box = [c for c in with_rows if c.kind == 'box' and c.hard]
+        self.contacts = [c for c in constraints if getattr(c, 'is_contact', False)]
         eq_rows, self.n_eq = _stack(self.eq, nx, lambda c: c.rows())
         in_rows, self.n_in = _stack(self.ineq, nx, lambda c: c.rows())
         ne, ni = self.n_eq, self.n_in
@@ -80,7 +105,7 @@ class CyclePlan:
         self.hi = np.full(nx + ne + ni, np.inf)
         self.A, self.C = self.M[:ne], self.M[ne:]
         self.lbox, self.ubox = self.lo[:nx], self.hi[:nx]
-        self.b, self._b_hi = self.lo[nx:nx + ne], self.hi[nx:nx + ne]
+        self.b, self._b_hi = self.lo[nx: nx + ne], self.hi[nx: nx + ne]
         self.b[:] = 0.0
         self.l, self.u = self.lo[nx + ne:], self.hi[nx + ne:]
         for c, rows in zip(self.eq, eq_rows):
@@ -100,7 +125,11 @@ class CyclePlan:
 
     # -------------------------------------------------------------- per cycle
     def update(self) -> None:
-        """Row weights, relaxation of switched-off constraints, variable bounds (after the objects' updates)."""
+        """
+        Row weights.
+
+        Relaxation of switched-off constraints, variable bounds (after the objects' updates).
+        """
         w, keys = self.w, self._weight_keys
         for i, (t, rows) in enumerate(zip(self.tasks, self.task_rows)):
             key = (t.get_effective_weight(), t.selection_version)
@@ -159,8 +188,8 @@ class CyclePlan:
             lo.fill(-np.inf)
             hi.fill(np.inf)
         elif (lo > hi).any():
-            # position and velocity predictions disagree (e.g. fast motion near a limit): keep a finite,
-            # feasible compromise rather than an empty set
+            # position and velocity predictions disagree (e.g. fast motion near a limit): keep a
+            # finite, feasible compromise rather than an empty set
             bad = lo > hi
             mid = 0.5 * (lo[bad] + hi[bad])
             lo[bad] = mid

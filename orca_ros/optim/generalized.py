@@ -1,35 +1,55 @@
-"""GENERALIZED resolution: continuous priorities between tasks, from weighted (0) to strict (1).
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+GENERALIZED resolution: continuous priorities between tasks, from weighted (0) to strict (1).
 
-Reference: M. Liu, Y. Tan, V. Padois, "Generalized hierarchical control", Autonomous Robots 40(1):17-31,
-2016. That paper blends task inputs through *generalized projectors* P(alpha) that remove a fraction alpha of
+Reference: M. Liu, Y. Tan, V. Padois, "Generalized hierarchical control", Autonomous Robots
+40(1):17-31,
+2016. That paper blends task inputs through *generalized projectors* P(alpha) that remove a
+      fraction alpha of
 a lower task's action on the space of a higher task (alpha = 1: full null-space projection, strict;
-alpha = 0: no projection). Formulated on one QP over per-task inputs, its alpha = 0 end is a superposition
-of independently optimised tasks, not the weighted compromise, and its alpha = 1 end is a projection, not the
-lexicographic optimum. This module keeps the idea (a priority value scales how much of its influence on a
-higher task a lower task may exert) but builds it on our strict cascade so that both ends are exact:
-alpha = 0 gives *exactly* the weighted solution, alpha = 1 *exactly* MULTI_LEVEL_WEIGHTED.
+alpha = 0: no projection). Formulated on one QP over per-task inputs, its alpha = 0 end is a
+superposition of independently optimised tasks, not the weighted compromise, and its alpha = 1 end
+is a projection, not the lexicographic optimum. This module keeps the idea (a priority value scales
+how much of its influence on a higher task a lower task may exert) but builds it on our strict
+cascade so that both ends are exact: alpha = 0 gives *exactly* the weighted solution, alpha = 1
+*exactly* MULTI_LEVEL_WEIGHTED.
 
-Formulation. Tasks carry levels 0..L (the order in which priorities can act); alpha[i, j] in [0, 1] is the
-priority of task i over task j, for level(i) < level(j); default 1 (strict, as MULTI_LEVEL_WEIGHTED); tasks of
-one level are weighted against each other. Level 0 is the weighted QP of its tasks. Level k >= 1, given the
-solution x_{k-1} of the level above:
+Formulation. Tasks carry levels 0..L (the order in which priorities can act); alpha[i, j] in [0, 1]
+is the priority of task i over task j, for level(i) < level(j); default 1 (strict, as
+MULTI_LEVEL_WEIGHTED); tasks of one level are weighted against each other. Level 0 is the weighted
+QP of its tasks. Level k >= 1, given the solution x_{k-1} of the level above:
 
 1. the *reference* x_w,k: the weighted QP of every task of levels <= k under the constraints (what
    weighting alone would do);
-2. each locked task i (level < k) gets the priority alpha_i = max_j alpha[i, j] over the tasks j of level k,
-   and the per-row band  b_i = (1 - alpha_i) |diag(s_i) E_i (x_w,k - x_{k-1})|: the part of the disturbance
+2. each locked task i (level < k) gets the priority alpha_i = max_j alpha[i, j] over the tasks j
+   of level k, and the per-row band  b_i = (1 - alpha_i) |diag(s_i) E_i (x_w,k - x_{k-1})|: the
+   part of the disturbance
    that weighting would inflict on task i that level k is still allowed to inflict;
 3. x_k = argmin  sum_{levels <= k} w_t ||diag(s_t)(E_t x - f_t)||^2 + regularisation
          s.t. the constraints (relaxed to keep x_{k-1} feasible, see :mod:`.lower_level_problem`),
               |diag(s_i) E_i (x - x_{k-1})| <= b_i  for every locked task i.
 
-At alpha = 0, x_w,k satisfies every band and minimises the same cost over a larger set: x_k = x_w,k, the weighted
-solution of all levels <= k. At alpha = 1 the bands close: task i is locked at x_{k-1} and the costs of the
-levels above are constant, so x_k is the strict cascade's solution (computed in the null space, as there).
-In between, the bands and hence the solution (the minimiser of a strictly convex QP) move continuously with
-alpha, so a priority ramped in time gives continuous torques. Cost: two QPs per level below the first when
-some alpha < 1 (the reference and the banded level), one otherwise.
+At alpha = 0, x_w,k satisfies every band and minimises the same cost over a larger set: x_k =
+x_w,k, the weighted solution of all levels <= k. At alpha = 1 the bands close: task i is locked at
+x_{k-1} and the costs of the levels above are constant, so x_k is the strict cascade's solution
+(computed in the null space, as there). In between, the bands and hence the solution (the minimiser
+of a strictly convex QP) move continuously with alpha, so a priority ramped in time gives
+continuous torques. Cost: two QPs per level below the first when some alpha < 1 (the reference and
+the banded level), one otherwise.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -43,7 +63,7 @@ class GeneralizedPriorities:
     def __init__(self):
         self._alpha: dict[tuple[str, str], float] = {}
 
-    def set(self, high: str, low: str, value: float) -> None:
+    def set(self, high: str, low: str, value: float) -> None:  # noqa: A003 (ORCA API name)
         value = float(value)
         if not (np.isfinite(value) and 0.0 <= value <= 1.0):
             raise ValueError(f"priority of '{high}' over '{low}' must be in [0, 1], got {value}")
@@ -60,7 +80,11 @@ class GeneralizedPriorities:
         return self._alpha.items()
 
     def level_priority(self, locked_task, level_tasks) -> float:
-        """alpha of a locked task over a level: the strictest relation to any task of that level."""
+        """
+        Alpha of a locked task over a level.
+
+        The strictest relation to any task of that level.
+        """
         return max((self.get(locked_task.name, t.name) for t in level_tasks), default=1.0)
 
     def bands(self, problem, level_tasks, reference, x_above: np.ndarray) -> np.ndarray | None:
@@ -77,8 +101,8 @@ class GeneralizedPriorities:
         for t, a in zip(problem.locked, alphas):
             m = t.rows()
             if t.get_effective_weight() > 0.0:
-                band[k:k + m] = (1.0 - a) * np.abs(t.selection * (t.E @ dx))
+                band[k: k + m] = (1.0 - a) * np.abs(t.selection * (t.E @ dx))
             else:
-                band[k:k + m] = 0.0
+                band[k: k + m] = 0.0
             k += m
         return band

@@ -1,36 +1,60 @@
-"""A priority level below others, solved *relative* to the solution of the level just above.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+A priority level below others, solved *relative* to the solution of the level just above.
 
 With x_ref the solution of the level above, the level solves for the step z = x - x_ref:
 
-* the tasks of the levels above are *locked*: their rows diag(s) E_i keep the value they had at x_ref,
-  either exactly (strict priority: z lives in the null space of every locked row and of the constraint
-  equalities, x = x_ref + N y, with N an orthonormal basis from an SVD, so the locks cost no equality row
-  and can never conflict with an inequality) or up to a per-row band |diag(s) E_i z| <= band (the
-  generalized priorities of :mod:`orca_ros.optim.generalized`);
-* every inequality and bound of the original problem is kept, relaxed only so that z = 0 stays feasible:
-  l' = min(l - C x_ref, 0), u' = max(u - C x_ref, 0). x_ref satisfies the constraints to the tolerance of
-  the solver that produced it; without this relaxation a level above sitting on a limit (e.g. a task that
-  cannot be achieved within the torque limits) leaves the levels below a problem that a solver may call
-  infeasible by a rounding error. With it, each lower level is feasible by construction, never makes a
-  constraint worse than the level above left it, and the residuals reached above are kept whatever they
-  are (achieved or not): the "slack" of an unachievable level is frozen at its optimum.
+* the tasks of the levels above are *locked*: their rows diag(s) E_i keep the value they had at
+  x_ref, either exactly (strict priority: z lives in the null space of every locked row and of the
+  constraint equalities, x = x_ref + N y, with N an orthonormal basis from an SVD, so the locks
+  cost no equality row and can never conflict with an inequality) or up to a per-row band |diag(s)
+  E_i z| <= band (the generalized priorities of :mod:`orca_ros.optim.generalized`);
+* every inequality and bound of the original problem is kept, relaxed only so that z = 0 stays
+  feasible: l' = min(l - C x_ref, 0), u' = max(u - C x_ref, 0). x_ref satisfies the constraints to
+  the tolerance of the solver that produced it; without this relaxation a level above sitting on a
+  limit (e.g. a task that cannot be achieved within the torque limits) leaves the levels below a
+  problem that a solver may call infeasible by a rounding error. With it, each lower level is
+  feasible by construction, never makes a constraint worse than the level above left it, and the
+  residuals reached above are kept whatever they are (achieved or not): the "slack" of an
+  unachievable level is frozen at its optimum.
 """
+
 from __future__ import annotations
 
 import math
 
 import numpy as np
 
-from .solvers import ReturnCode, make_backend
+from .solvers import make_backend, ReturnCode
 from .weighted_problem import WeightedProblem
 
 _RANK_TOL = 1e-9  # singular values below this (relative to the largest, at least 1) count as zero
 
 
 class LowerLevelProblem(WeightedProblem):
-    def __init__(self, plan, cost_rows: slice, solver, level: int, locked_tasks, diagonal_tasks=()):
-        super().__init__(plan, cost_rows, solver, level=level, locked_tasks=locked_tasks,
-                         diagonal_tasks=diagonal_tasks)
+    def __init__(
+        self, plan, cost_rows: slice, solver, level: int, locked_tasks, diagonal_tasks=()
+    ):
+        super().__init__(
+            plan,
+            cost_rows,
+            solver,
+            level=level,
+            locked_tasks=locked_tasks,
+            diagonal_tasks=diagonal_tasks,
+        )
         nx = plan.layout.nx
         n_lock = self.n_eq - self.n_eq_constraints
         self.x_ref = np.zeros(nx)
@@ -62,12 +86,17 @@ class LowerLevelProblem(WeightedProblem):
         return None  # the level's own back-ends are made in __init__ (strict / banded forms)
 
     def lock(self, x_above: np.ndarray, band: np.ndarray | None = None) -> None:
-        """Keep the locked rows at their value at x_above, exactly (band None or all zero) or to +-band.
+        """
+        Keep the locked rows at their value at x_above.
 
-        A locked task that is ramping in or out (activation factor rho in (0, 1)) is released progressively:
-        its rows get the band  (1 - rho) / rho * (|s E x_above| + |s f| + 1),  0 when fully active and growing
-        without bound as the task fades, so that switching a higher-level task off (or on) moves the levels
-        below continuously instead of dropping (or imposing) a lock at once."""
+        Exactly (band None or all zero) or to +-band.
+
+        A locked task that is ramping in or out (activation factor rho in (0, 1)) is released
+        progressively: its rows get the band  (1 - rho) / rho * (|s E x_above| + |s f| + 1),  0
+        when fully active and growing without bound as the task fades, so that switching a
+        higher-level task off (or on) moves the levels below continuously instead of dropping (or
+        imposing) a lock at once.
+        """
         super().lock(x_above)
         self.x_ref[:] = x_above
         k = 0
@@ -77,9 +106,11 @@ class LowerLevelProblem(WeightedProblem):
             if 0.0 < rho < 1.0 and t.get_effective_weight() > 0.0:
                 if band is None:
                     band = np.zeros(self.lock_rows())
-                lock_value = self.b[self.n_eq_constraints + k:self.n_eq_constraints + k + m]  # s E x_above
+                lock_value = self.b[
+                    self.n_eq_constraints + k: self.n_eq_constraints + k + m
+                ]  # s E x_above
                 scale = (np.abs(lock_value) + np.abs(t.selection * t.f) + 1.0) * (t.selection > 0)
-                np.maximum(band[k:k + m], (1.0 - rho) / rho * scale, out=band[k:k + m])
+                np.maximum(band[k: k + m], (1.0 - rho) / rho * scale, out=band[k: k + m])
             k += m
         if band is not None and not np.any(band > 0.0):
             band = None
@@ -133,8 +164,9 @@ class LowerLevelProblem(WeightedProblem):
         self._Cs /= norms[:, None]
         self._ls /= norms
         self._us /= norms
-        code = self.strict_backend.solve(self._Hs, self._gs, None, None, self._Cs, self._ls, self._us,
-                                         -self._free, self._free)
+        code = self.strict_backend.solve(
+            self._Hs, self._gs, None, None, self._Cs, self._ls, self._us, -self._free, self._free
+        )
         if code is not ReturnCode.SUCCESS:
             return code, None
         return code, N @ self.strict_backend.x
@@ -145,7 +177,9 @@ class LowerLevelProblem(WeightedProblem):
             self.banded_backend = make_backend(self.solver_type, nx, ne, self._Cb.shape[0])
             self.banded_backend.deadline = self.strict_backend.deadline
             self.banded_backend.max_iterations = self.strict_backend.max_iterations
-        self._Ab[:] = self.A[:ne]  # x_ref satisfies the equalities: keep them as they are (A z = 0)
+        self._Ab[:] = self.A[
+            :ne
+        ]  # x_ref satisfies the equalities: keep them as they are (A z = 0)
         g = self.H @ self.x_ref + self.g
         if n_in:
             self._Cb[:n_in] = self.C
@@ -154,8 +188,9 @@ class LowerLevelProblem(WeightedProblem):
         np.negative(self.band, out=self._lb[n_in:])
         self._ub[n_in:] = self.band
         self._relaxed(self.lbox, self.ubox, self.x_ref, self._lboxb, self._uboxb)
-        code = self.banded_backend.solve(self.H, g, self._Ab, self._bb, self._Cb, self._lb, self._ub,
-                                         self._lboxb, self._uboxb)
+        code = self.banded_backend.solve(
+            self.H, g, self._Ab, self._bb, self._Cb, self._lb, self._ub, self._lboxb, self._uboxb
+        )
         return code, (self.banded_backend.x if code is ReturnCode.SUCCESS else None)
 
     def lock_rows(self) -> int:

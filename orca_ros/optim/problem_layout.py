@@ -1,14 +1,30 @@
-"""Variables of the reduced QP and the affine map that recovers joint torques from them.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Variables of the reduced QP and the affine map that recovers joint torques from them.
 
-The reference formulation optimises chi = [base acc, joint acc, base torque, joint torque, wrenches]
-subject to the dynamics  M nu_dot + n = S^T tau + J_c^T w.  Torques are a linear function of the other
-variables, so the controller solves for x = [nu_dot (nv), w (6 * n_wrenches)] only and recovers
+The reference formulation optimises chi = [base acc, joint acc, base torque, joint torque,
+wrenches] subject to the dynamics  M nu_dot + n = S^T tau + J_c^T w.  Torques are a linear function
+of the other variables, so the controller solves for x = [nu_dot (nv), w (6 * n_wrenches)] only and
+recovers
 
     tau = T x + t0,   T = [M_a, -J_c,a^T],  t0 = n_a      (rows "a" = actuated joints)
 
 while the unactuated (floating-base) rows stay as an equality constraint  [M_u, -J_c,u^T] x = -n_u.
 Every task or constraint written on torques is mapped through (T, t0).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -22,7 +38,9 @@ class ProblemLayout:
         self.nbase = self.nv - self.ndof
         self.n_wrenches = 0
         self.contacts = []  # objects owning one wrench each, in wrench order (see set_contacts)
-        self.wrench_jacobian = np.zeros((0, self.nv))  # (6 n_wrenches, nv), world-aligned, from the contacts
+        self.wrench_jacobian = np.zeros(
+            (0, self.nv)
+        )  # (6 n_wrenches, nv), world-aligned, from the contacts
         self._resize()
 
     def _resize(self) -> None:
@@ -37,8 +55,11 @@ class ProblemLayout:
         self.t0 = self._t0
 
     def set_contacts(self, contacts) -> None:
-        """One external wrench variable per contact (``contact.wrench_index`` set here); the QP grows by 6
-        variables per contact and shrinks back when contacts are removed."""
+        """
+        One external wrench variable per contact (``contact.wrench_index`` set here).
+
+        The QP grows by 6 variables per contact and shrinks back when contacts are removed.
+        """
         self.contacts = list(contacts)
         for i, c in enumerate(self.contacts):
             c.wrench_index = i
@@ -52,10 +73,13 @@ class ProblemLayout:
         return slice(start, start + 6)
 
     def update(self) -> None:
-        """Refresh the contacts' Jacobians and (T, t0) from the robot's current mass matrix and nonlinear
-        effects."""
+        """
+        Refresh the contacts' Jacobians and (T, t0).
+
+        They come from the robot's current mass matrix and nonlinear effects.
+        """
         for i, c in enumerate(self.contacts):
-            c.fill_wrench_jacobian(self.wrench_jacobian[6 * i:6 * i + 6])
+            c.fill_wrench_jacobian(self.wrench_jacobian[6 * i: 6 * i + 6])
         M = self.robot.get_mass_matrix()
         n = self.robot.get_generalized_gravity_and_coriolis_torques()
         nb = self.nbase

@@ -1,30 +1,51 @@
-"""One weighted QP level: tasks summed with their (ramped) weights, all constraints applied.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+One weighted QP level: tasks summed with their (ramped) weights, all constraints applied.
 
-In a strict hierarchy a level also receives the tasks of every level above it as *locked* tasks: rows
-diag(s) E x = diag(s) E x*, with x* the solution of the level just above (see :mod:`.lower_level_problem`,
-which solves such a level relative to x*; here the rows only describe the problem, e.g. for a KKT solve).
+In a strict hierarchy a level also receives the tasks of every level above it as *locked* tasks:
+rows diag(s) E x = diag(s) E x*, with x* the solution of the level just above (see
+:mod:`.lower_level_problem`, which solves such a level relative to x*; here the rows only describe
+the problem, e.g. for a KKT solve).
 
 Sizes, row offsets and the solver's sparsity pattern are fixed when the problem is created (at
 configuration time), on the rows of the controller's :class:`~orca_ros.optim.cycle_plan.CyclePlan`;
 :meth:`build` only forms the Hessian and gradient of this level from them.
 """
+
 from __future__ import annotations
 
 import math
 
 import numpy as np
 
-from ..optim.solvers import ReturnCode, make_backend
+from ..optim.solvers import make_backend, ReturnCode
 from ..utils.logger import get_logger
 
-_LOG = get_logger("optim")
+_LOG = get_logger('optim')
 
 
 class WeightedProblem:
-    def __init__(self, plan, cost_rows: slice, solver, level: int = 0, locked_tasks=(), diagonal_tasks=()):
-        """A level whose cost is the plan's dense task rows ``cost_rows``, its ``diagonal_tasks`` and the global
-        regularisation, under every constraint of the plan; ``locked_tasks``: tasks of the levels above kept at
-        their value (lower levels)."""
+    def __init__(
+        self, plan, cost_rows: slice, solver, level: int = 0, locked_tasks=(), diagonal_tasks=()
+    ):
+        """
+        Make a level whose cost is the plan's dense task rows ``cost_rows``.
+
+        Its ``diagonal_tasks`` and the global regularisation, under every constraint of the plan;
+        ``locked_tasks``: tasks of the levels above kept at their value (lower levels).
+        """
         self.plan = plan
         self.layout = layout = plan.layout
         self.level = level
@@ -53,10 +74,12 @@ class WeightedProblem:
         self._E, self._f = plan.E[cost_rows], plan.f[cost_rows]
         self._w = plan.w[cost_rows][:, None]
         self._WE = np.zeros(self._E.shape)
-        self._diagonal = [(t.diagonal_columns, plan.ws[id(t)], plan.wsf[id(t)])
-                          for t in [plan.regularisation] + list(diagonal_tasks)]
+        self._diagonal = [
+            (t.diagonal_columns, plan.ws[id(t)], plan.wsf[id(t)])
+            for t in [plan.regularisation] + list(diagonal_tasks)
+        ]
         self.backend = self._make_backend()
-        self._stacked = not self.locked and hasattr(self.backend, "solve_stacked")
+        self._stacked = not self.locked and hasattr(self.backend, 'solve_stacked')
         self.x = np.zeros(nx)
         self.return_code = ReturnCode.NOT_SOLVED
 
@@ -74,7 +97,11 @@ class WeightedProblem:
                 b.max_iterations = max_iterations or b.default_max_iterations
 
     def lock(self, x_above: np.ndarray) -> None:
-        """Keep the residuals the higher levels reached at x_above (their tasks' E, f of this cycle)."""
+        """
+        Keep the residuals the higher levels reached at x_above.
+
+        Their tasks' E, f of this cycle.
+        """
         for t, rows in zip(self.locked, self._lock_rows):
             if t.get_effective_weight() > 0.0:
                 np.multiply(t.E, t.selection[:, None], out=self.A[rows])
@@ -85,7 +112,11 @@ class WeightedProblem:
 
     # -------------------------------------------------------------- build
     def build(self) -> None:
-        """H = E^T W E + w_r I, g = -E^T W f - w_r f_r over this level's stacked rows (W: the row weights)."""
+        """
+        H = E^T W E + w_r I.
+
+        G = -E^T W f - w_r f_r over this level's stacked rows (W, the row weights).
+        """
         H, g = self.H, self.g
         if self._E.shape[0]:
             np.multiply(self._E, self._w, out=self._WE)
@@ -106,16 +137,19 @@ class WeightedProblem:
 
     # -------------------------------------------------------------- solve
     def solve(self) -> ReturnCode:
-        # states, targets, gains and limits are validated where they enter; the matrices built from them
-        # are finite unless a task computed garbage, which shows in the cost
+        # states, targets, gains and limits are validated where they enter; the matrices built from
+        # them are finite unless a task computed garbage, which shows in the cost
         if not math.isfinite(self.H.sum() + self.g.sum()):
             self.return_code = ReturnCode.NON_FINITE_PROBLEM
             return self.return_code
         if self._stacked:  # the plan's arrays are already in the solver's layout
-            code = self.backend.solve_stacked(self.H, self.g, self.plan.M, self.plan.lo, self.plan.hi)
+            code = self.backend.solve_stacked(
+                self.H, self.g, self.plan.M, self.plan.lo, self.plan.hi
+            )
         else:
-            code = self.backend.solve(self.H, self.g, self.A, self.b, self.C, self.l, self.u, self.lbox,
-                                      self.ubox)
+            code = self.backend.solve(
+                self.H, self.g, self.A, self.b, self.C, self.l, self.u, self.lbox, self.ubox
+            )
         if code is ReturnCode.SUCCESS:
             x = self.backend.x
             if not math.isfinite(x.sum()):
@@ -147,6 +181,10 @@ class WeightedProblem:
             v = max(v, float(np.max(np.abs(self.A @ x - self.b))))
         if self.n_in:
             y = self.C @ x
-            v = max(v, float(np.max(self.l - y, initial=0.0)), float(np.max(y - self.u, initial=0.0)))
-        v = max(v, float(np.max(self.lbox - x, initial=0.0)), float(np.max(x - self.ubox, initial=0.0)))
+            v = max(
+                v, float(np.max(self.l - y, initial=0.0)), float(np.max(y - self.u, initial=0.0))
+            )
+        v = max(
+            v, float(np.max(self.lbox - x, initial=0.0)), float(np.max(x - self.ubox, initial=0.0))
+        )
         return v

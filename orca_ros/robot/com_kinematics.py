@@ -1,8 +1,25 @@
-"""Centre of mass of the whole robot, in the world frame: position, Jacobian, velocity and bias J_dot nu.
-
-Computed on its own Pinocchio Data (a zero-acceleration pass would otherwise overwrite the frame quantities
-of the robot's main Data for the same state) and cached per state.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+Centre of mass of the whole robot, in the world frame.
+
+position, Jacobian, velocity and bias J_dot nu.
+
+Computed on its own Pinocchio Data (a zero-acceleration pass would otherwise overwrite the frame
+quantities of the robot's main Data for the same state) and cached per state.
+"""
+
 from __future__ import annotations
 
 import numpy as np

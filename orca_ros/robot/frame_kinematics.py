@@ -1,15 +1,33 @@
-"""Kinematics of one frame relative to another, from world-frame quantities.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Kinematics of one frame relative to another, from world-frame quantities.
 
-All inputs are "world aligned": position p, rotation R, Jacobian J = [J_lin; J_ang] mapping generalized
-velocities to (velocity of the frame origin, angular velocity) in world axes, bias acceleration
-a = J_dot * nu (classical: linear part is the second derivative of the origin position), and velocity.
+All inputs are "world aligned": position p, rotation R, Jacobian J = [J_lin; J_ang] mapping
+generalized velocities to (velocity of the frame origin, angular velocity) in world axes, bias
+acceleration a = J_dot * nu (classical: linear part is the second derivative of the origin
+position), and velocity.
 
-For a tip frame f seen from a reference frame b, with r = p_f - p_b, the relative position R_b^T r has
+For a tip frame f seen from a reference frame b, with r = p_f - p_b, the relative position R_b^T r
+has
     velocity       R_b^T (r_dot - w_b x r)
     acceleration   R_b^T (r_ddot - dw_b x r - 2 w_b x r_dot + w_b x (w_b x r))
-and the relative angular velocity R_b^T (w_f - w_b) has derivative R_b^T (dw_f - dw_b - w_b x (w_f - w_b)).
-The terms linear in the generalized accelerations form the relative Jacobian; the rest is the bias.
+and the relative angular velocity R_b^T (w_f - w_b) has derivative R_b^T (dw_f - dw_b - w_b x (w_f
+- w_b)). The terms linear in the generalized accelerations form the relative Jacobian; the rest is
+the bias.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -52,7 +70,12 @@ def relative_bias_acceleration(Tb, vb, ab, Tf, vf, af) -> np.ndarray:
     rdot = vf[:3] - vb[:3]
     wb = vb[3:]
     out = np.empty(6)
-    out[:3] = Rbt @ (af[:3] - ab[:3] + np.cross(r, ab[3:]) - 2.0 * np.cross(wb, rdot)
-                     + np.cross(wb, np.cross(wb, r)))
+    out[:3] = Rbt @ (
+        af[:3]
+        - ab[:3]
+        + np.cross(r, ab[3:])
+        - 2.0 * np.cross(wb, rdot)
+        + np.cross(wb, np.cross(wb, r))
+    )
     out[3:] = Rbt @ (af[3:] - ab[3:] - np.cross(wb, vf[3:] - wb))
     return out

@@ -1,16 +1,33 @@
-"""Robot kinematics and dynamics on Pinocchio, for fixed-base and floating-base robots.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Robot kinematics and dynamics on Pinocchio, for fixed-base and floating-base robots.
 
 Conventions
 -----------
 * Joint order is Pinocchio's (depth-first over the URDF tree); :meth:`get_joint_names` gives it.
 * Fixed base (default): the URDF root link is welded to the world, configuration = joint angles.
-* Floating base (``floating_base=True``): a free-flyer root; the generalized velocity is
-  [base twist in the *base* frame (linear, angular) -- Pinocchio's free-flyer convention, joint velocities].
-  The 5-argument :meth:`set_robot_state` takes the base twist in the *world* frame and converts it.
-* Cartesian quantities are expressed in the *base frame* set by :meth:`set_base_frame` (default: the URDF
-  root link; ``"world"`` for the inertial frame): 4x4 poses, 6xN Jacobians [linear; angular] of the frame
-  origin's velocity in base-frame axes, and the matching bias acceleration J_dot * nu.
+* Floating base (``floating_base=True``): a free-flyer root; the generalized velocity is [base
+  twist in the *base* frame (linear, angular) -- Pinocchio's free-flyer convention, joint
+  velocities]. The 5-argument :meth:`set_robot_state` takes the base twist in the *world* frame and
+  converts it.
+* Cartesian quantities are expressed in the *base frame* set by :meth:`set_base_frame` (default:
+  the URDF root link; ``"world"`` for the inertial frame): 4x4 poses, 6xN Jacobians [linear;
+  angular] of the frame origin's velocity in base-frame axes, and the matching bias acceleration
+  J_dot * nu.
 """
+
 from __future__ import annotations
 
 import os
@@ -18,20 +35,24 @@ import os
 import numpy as np
 import pinocchio as pin
 
-from . import state_input
-from ..utils.logger import get_logger
 from . import frame_kinematics as fk
+from . import state_input
 from .com_kinematics import ComKinematics
+from ..utils.logger import get_logger
 
-_LOG = get_logger("robot")
-WORLD_FRAME = "world"
+_LOG = get_logger('robot')
+WORLD_FRAME = 'world'
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 
 class RobotModel:
-    """Kinematic/dynamic model of a robot, updated with :meth:`set_robot_state` every control cycle."""
+    """
+    Kinematic/dynamic model of a robot.
 
-    def __init__(self, name: str = ""):
+    Updated with :meth:`set_robot_state` every control cycle.
+    """
+
+    def __init__(self, name: str = ''):
         self.name = name
         self.model: pin.Model | None = None
         self.data: pin.Data | None = None
@@ -46,29 +67,30 @@ class RobotModel:
     def load_model_from_file(self, urdf_path: str, floating_base: bool = False) -> bool:
         if not isinstance(urdf_path, (str, os.PathLike)) or not os.path.isfile(urdf_path):
             raise FileNotFoundError(f"URDF file not found: '{urdf_path}'")
-        with open(urdf_path, "r", encoding="utf-8") as fh:
+        with open(urdf_path, 'r', encoding='utf-8') as fh:
             xml = fh.read()
         self.urdf_path = os.fspath(urdf_path)
         return self.load_model_from_string(xml, floating_base)
 
     def load_model_from_string(self, urdf_xml: str, floating_base: bool = False) -> bool:
-        if not isinstance(urdf_xml, str) or "<robot" not in urdf_xml:
-            raise ValueError("not a URDF description: no <robot> element in the given string")
+        if not isinstance(urdf_xml, str) or '<robot' not in urdf_xml:
+            raise ValueError('not a URDF description: no <robot> element in the given string')
         try:
             if floating_base:
                 model = pin.buildModelFromXML(urdf_xml, pin.JointModelFreeFlyer())
             else:
                 model = pin.buildModelFromXML(urdf_xml)
         except Exception as exc:  # pinocchio raises ValueError/RuntimeError with its own text
-            raise ValueError(f"could not parse URDF: {exc}") from exc
+            raise ValueError(f'could not parse URDF: {exc}') from exc
         self._setup(model, floating_base)
         return True
 
     def _setup(self, model: pin.Model, floating_base: bool) -> None:
         self.model = model
         self.data = model.createData()
-        # gravity is computed on its own Data: its RNEA pass would overwrite the velocities/accelerations
-        # that computeAllTerms left in self.data for the frame quantities of the same state
+        # gravity is computed on its own Data: its RNEA pass would overwrite the
+        # velocities/accelerations that computeAllTerms left in self.data for the frame quantities
+        # of the same state
         self._gravity_data = model.createData()
         self._com = None
         self.floating_base = bool(floating_base)
@@ -90,8 +112,10 @@ class RobotModel:
                 self._q_map.append((jm.idx_q, 2))
                 self._q_simple = False
             else:
-                raise ValueError(f"joint '{model.names[j]}' of type {jm.shortname()} is not supported "
-                                 "(only 1-DoF revolute/prismatic/continuous joints)")
+                raise ValueError(
+                    f"joint '{model.names[j]}' of type {jm.shortname()} is not supported "
+                    '(only 1-DoF revolute/prismatic/continuous joints)'
+                )
         lower = np.full(self.ndof, -np.inf)
         upper = np.full(self.ndof, np.inf)
         for k, (iq, nq) in enumerate(self._q_map):
@@ -108,8 +132,11 @@ class RobotModel:
         self._v = np.zeros(self.ndof)
         self._world_H_base = np.eye(4)
         self._base_twist_world = np.zeros(6)
-        self._base_from_q_pin = False  # set_configuration: world_H_base / twist derived from q, v on demand
-        # the root link (with a floating base: the free-flyer's child link) is the default base frame
+        self._base_from_q_pin = (
+            False  # set_configuration: world_H_base / twist derived from q, v on demand
+        )
+        # the root link (with a floating base: the free-flyer's child link) is the default base
+        # frame
         self._base_frame = None
         self.set_base_frame(self._first_body_frame() or WORLD_FRAME)
         self.set_gravity(np.array([0.0, 0.0, -9.81]))
@@ -124,24 +151,41 @@ class RobotModel:
 
     def _require_model(self) -> None:
         if self.model is None:
-            raise RuntimeError("no model loaded: call load_model_from_file() or load_model_from_string() first")
+            raise RuntimeError(
+                'no model loaded: call load_model_from_file() or load_model_from_string() first'
+            )
 
     # ------------------------------------------------------------------ configuration
     def set_base_frame(self, frame: str) -> None:
-        """Frame in which every pose, Jacobian and acceleration is expressed ('world' = inertial frame)."""
+        """
+        Frame in which every pose.
+
+        Jacobian and acceleration is expressed ('world' = inertial frame).
+        """
         self._require_model()
         fid = self.get_frame_id(frame)
         self._base_frame = frame
         self._base_fid = fid
         # a frame rigidly attached to the world never moves: its transform is constant
-        self._base_static = (not self.floating_base) and (fid < 0 or self.model.frames[fid].parentJoint == 0)
-        self._base_is_world = fid < 0 or (self._base_static and self._frame_world_pose_static(fid) is None)
-        self._base_static_T = None if self._base_is_world else (
-            self._frame_world_pose_static(fid) if self._base_static else None)
+        self._base_static = (not self.floating_base) and (
+            fid < 0 or self.model.frames[fid].parentJoint == 0
+        )
+        self._base_is_world = fid < 0 or (
+            self._base_static and self._frame_world_pose_static(fid) is None
+        )
+        self._base_static_T = (
+            None
+            if self._base_is_world
+            else (self._frame_world_pose_static(fid) if self._base_static else None)
+        )
         self._frame_cache.clear()
 
     def _frame_world_pose_static(self, fid: int):
-        """World pose of a frame attached to the universe joint, or None when it is the identity."""
+        """
+        World pose of a frame attached to the universe joint.
+
+        Or None when it is the identity.
+        """
         T = self.model.frames[fid].placement.homogeneous
         return None if np.allclose(T, np.eye(4)) else T
 
@@ -152,7 +196,7 @@ class RobotModel:
         self._require_model()
         g = np.asarray(gravity, dtype=float).reshape(-1)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
-            raise ValueError(f"gravity must be a finite 3-vector, got {gravity!r}")
+            raise ValueError(f'gravity must be a finite 3-vector, got {gravity!r}')
         self.model.gravity.linear = g
         self._gravity = g.copy()
         self._stamp += 1
@@ -162,16 +206,22 @@ class RobotModel:
 
     # ------------------------------------------------------------------ state
     def set_robot_state(self, *args) -> None:
-        """``set_robot_state(q, v)`` for a fixed base, or
-        ``set_robot_state(world_H_base, q, base_twist_world, v, gravity)`` (also valid for a fixed base:
-        the base transform/twist are then ignored and only the gravity is applied)."""
+        """
+        Set the robot's state: ``(q, v)`` for a fixed base.
+
+        Or ``set_robot_state(world_H_base, q, base_twist_world, v, gravity)`` (also valid for a
+        fixed base: the base transform/twist are then ignored and only the gravity is applied).
+        """
         self._require_model()
         state_input.set_joint_and_base_state(self, args)
 
     def set_configuration(self, q, v) -> None:
-        """State in Pinocchio's convention (what TSID and Pinocchio users hold): ``q`` of size nq (floating base:
-        position, unit quaternion x y z w, then the joints), ``v`` of size nv (floating base: the base twist in
-        the base frame, then the joints)."""
+        """
+        State in Pinocchio's convention (what TSID and Pinocchio users hold).
+
+        ``q`` of size nq (floating base: position, unit quaternion x y z w, then the joints), ``v``
+        of size nv (floating base: the base twist in the base frame, then the joints).
+        """
         self._require_model()
         state_input.set_configuration(self, q, v)
 
@@ -184,7 +234,9 @@ class RobotModel:
     def _update_terms(self) -> None:
         if not self._initialized:
             self._require_model()
-            raise RuntimeError(f"robot '{self.name}' has no state yet: call set_robot_state() first")
+            raise RuntimeError(
+                f"robot '{self.name}' has no state yet: call set_robot_state() first"
+            )
         if self._terms_stamp != self._stamp:
             pin.computeAllTerms(self.model, self.data, self._q_pin, self._v_pin)
             self._terms_stamp = self._stamp
@@ -212,13 +264,19 @@ class RobotModel:
         return name == WORLD_FRAME or (self.model is not None and self.model.existFrame(name))
 
     def get_frame_id(self, name: str) -> int:
-        """Pinocchio frame id of a link/joint frame; -1 for 'world'. Raises on unknown names."""
+        """
+        Pinocchio frame id of a link/joint frame; -1 for 'world'.
+
+        Raises on unknown names.
+        """
         self._require_model()
         if name == WORLD_FRAME:
             return -1
         if not isinstance(name, str) or not self.model.existFrame(name):
             known = sorted({f.name for f in self.model.frames if f.type == pin.FrameType.BODY})
-            raise ValueError(f"unknown frame '{name}' in robot '{self.name}'; known links: {known}")
+            raise ValueError(
+                f"unknown frame '{name}' in robot '{self.name}'; known links: {known}"
+            )
         return self.model.getFrameId(name)
 
     # ------------------------------------------------------------------ limits from the URDF
@@ -259,9 +317,13 @@ class RobotModel:
     def get_generalized_gravity_torques(self) -> np.ndarray:
         if not self._initialized:
             self._require_model()
-            raise RuntimeError(f"robot '{self.name}' has no state yet: call set_robot_state() first")
+            raise RuntimeError(
+                f"robot '{self.name}' has no state yet: call set_robot_state() first"
+            )
         if self._gravity_stamp != self._stamp:
-            self._g = pin.computeGeneralizedGravity(self.model, self._gravity_data, self._q_pin).copy()
+            self._g = pin.computeGeneralizedGravity(
+                self.model, self._gravity_data, self._q_pin
+            ).copy()
             self._gravity_stamp = self._stamp
         return self._g
 
@@ -272,12 +334,19 @@ class RobotModel:
         return self.get_generalized_gravity_and_coriolis_torques()[self.nbase:].copy()
 
     def get_joint_coriolis_torques(self) -> np.ndarray:
-        return (self.get_generalized_gravity_and_coriolis_torques()
-                - self.get_generalized_gravity_torques())[self.nbase:].copy()
+        return (
+            self.get_generalized_gravity_and_coriolis_torques()
+            - self.get_generalized_gravity_torques()
+        )[self.nbase:].copy()
 
-    # ------------------------------------------------------------------ frames (world aligned, cached)
+    # ------------------------------------------------------------------ frames (world aligned,
+    # cached)
     def world_frame_terms(self, fid: int):
-        """(world_H_frame, J, velocity, bias acceleration) of frame ``fid`` in world axes; cached per state."""
+        """
+        (world_H_frame, J, velocity, bias acceleration) of frame ``fid`` in world axes.
+
+        Cached per state.
+        """
         hit = self._frame_cache.get(fid)
         if hit is not None and hit[0] == self._stamp:
             return hit[1]
@@ -299,7 +368,11 @@ class RobotModel:
         return self._com
 
     def get_center_of_mass_terms(self):
-        """(position, Jacobian 3 x nv, velocity, bias J_dot nu) of the centre of mass, world axes."""
+        """
+        (position, jacobian 3 x nv, velocity, bias J_dot nu) of the centre of mass.
+
+        World axes.
+        """
         return self._com_kinematics().terms()
 
     def get_center_of_mass(self) -> np.ndarray:
@@ -316,7 +389,11 @@ class RobotModel:
         return self.world_frame_terms(self._base_fid)
 
     def frame_terms(self, frame_id: int):
-        """(pose 4x4, Jacobian 6xnv, velocity 6, bias acceleration 6) of a frame in the base frame."""
+        """
+        Return the kinematics of a frame in the base frame.
+
+        (pose 4x4, Jacobian 6xnv, velocity 6, bias acceleration 6).
+        """
         tip = self.world_frame_terms(frame_id)
         base = self._base_terms()
         if base is None:
@@ -327,9 +404,18 @@ class RobotModel:
             Rbt = Tb[:3, :3].T
             pose = fk.relative_pose(Tb, Tf)
             J = np.vstack((Rbt @ Jf[:3], Rbt @ Jf[3:]))
-            return pose, J, np.concatenate((Rbt @ vf[:3], Rbt @ vf[3:])), np.concatenate((Rbt @ af[:3], Rbt @ af[3:]))
-        return (fk.relative_pose(Tb, Tf), fk.relative_jacobian(Tb, Jb, Tf, Jf), fk.relative_velocity(Tb, vb, Tf, vf),
-                fk.relative_bias_acceleration(Tb, vb, ab, Tf, vf, af))
+            return (
+                pose,
+                J,
+                np.concatenate((Rbt @ vf[:3], Rbt @ vf[3:])),
+                np.concatenate((Rbt @ af[:3], Rbt @ af[3:])),
+            )
+        return (
+            fk.relative_pose(Tb, Tf),
+            fk.relative_jacobian(Tb, Jb, Tf, Jf),
+            fk.relative_velocity(Tb, vb, Tf, vf),
+            fk.relative_bias_acceleration(Tb, vb, ab, Tf, vf, af),
+        )
 
     def get_frame_pose(self, frame: str) -> np.ndarray:
         """4x4 pose of ``frame`` in the base frame."""
@@ -342,7 +428,11 @@ class RobotModel:
         return self.frame_terms(self.get_frame_id(frame))[2].copy()
 
     def get_frame_bias_acceleration(self, frame: str) -> np.ndarray:
-        """J_dot * nu of ``frame`` in the base frame (acceleration at zero generalized acceleration)."""
+        """
+        Return J_dot * nu of ``frame`` in the base frame.
+
+        It is the acceleration at zero generalized acceleration.
+        """
         return self.frame_terms(self.get_frame_id(frame))[3].copy()
 
     def _world_or_frame(self, frame: str):
@@ -354,7 +444,9 @@ class RobotModel:
 
     def get_relative_transform(self, reference_frame: str, frame: str) -> np.ndarray:
         """reference_H_frame."""
-        return fk.relative_pose(self._world_or_frame(reference_frame)[0], self._world_or_frame(frame)[0])
+        return fk.relative_pose(
+            self._world_or_frame(reference_frame)[0], self._world_or_frame(frame)[0]
+        )
 
     def get_relative_jacobian(self, reference_frame: str, frame: str) -> np.ndarray:
         Tb, Jb, _, _ = self._world_or_frame(reference_frame)
@@ -371,11 +463,15 @@ class RobotModel:
         Tf, _, vf, af = self._world_or_frame(frame)
         return fk.relative_bias_acceleration(Tb, vb, ab, Tf, vf, af)
 
-    def print(self) -> None:
+    def print(self) -> None:  # noqa: A003 (ORCA API name)
         lo, hi = self._pos_limits
-        lines = [f"RobotModel '{self.name}' ({'floating' if self.floating_base else 'fixed'} base, "
-                 f"{self.ndof} dof, base frame '{self._base_frame}')"]
+        lines = [
+            f"RobotModel '{self.name}' ({'floating' if self.floating_base else 'fixed'} base, "
+            f"{self.ndof} dof, base frame '{self._base_frame}')"
+        ]
         for k, n in enumerate(self._joint_names):
-            lines.append(f"  {n}: pos [{lo[k]:.3f}, {hi[k]:.3f}] vel {self._vel_limits[k]:.3f} "
-                         f"effort {self._trq_limits[k]:.1f}")
-        print("\n".join(lines))
+            lines.append(
+                f'  {n}: pos [{lo[k]:.3f}, {hi[k]:.3f}] vel {self._vel_limits[k]:.3f} '
+                f'effort {self._trq_limits[k]:.1f}'
+            )
+        print('\n'.join(lines))

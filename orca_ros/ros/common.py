@@ -1,13 +1,33 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """Helpers shared by the ROS 2 nodes (parameters, QoS, executors, message conversions)."""
+
 from __future__ import annotations
 
 import numpy as np
 import rclpy
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-STATE_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT, history=HistoryPolicy.KEEP_LAST)
-COMMAND_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
-DEFAULT_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST)
+STATE_QOS = QoSProfile(
+    depth=1, reliability=ReliabilityPolicy.BEST_EFFORT, history=HistoryPolicy.KEEP_LAST
+)
+COMMAND_QOS = QoSProfile(
+    depth=1, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST
+)
+DEFAULT_QOS = QoSProfile(
+    depth=10, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST
+)
 
 
 def param(node, name, default):
@@ -19,14 +39,18 @@ def param(node, name, default):
 
 
 def nested_parameters(node, prefix: str) -> dict:
-    """All parameters under ``prefix.`` as a nested dict (``tasks.ee.kp`` -> {'ee': {'kp': ...}})."""
+    """
+    Return all parameters under ``prefix.`` as a nested dict.
+
+    ``tasks.ee.kp`` -> {'ee': {'kp': ...}}.
+    """
     out: dict = {}
     for name, p in node.get_parameters_by_prefix(prefix).items():
         value = p.value
-        if isinstance(value, (list, tuple)) or type(value).__name__ == "array":
+        if isinstance(value, (list, tuple)) or type(value).__name__ == 'array':
             value = list(value)
         d = out
-        keys = name.split(".")
+        keys = name.split('.')
         for k in keys[:-1]:
             d = d.setdefault(k, {})
         d[keys[-1]] = value
@@ -34,7 +58,8 @@ def nested_parameters(node, prefix: str) -> dict:
 
 
 def make_executor():
-    """EventsExecutor where this rclpy has it (lower overhead), else the single-threaded one.
+    """
+    Make an EventsExecutor where this rclpy has it (lower overhead), else a single-threaded one.
 
     Drive it with repeated ``spin_once`` calls (as :func:`run_node` does): with rclpy 7.1.6 (PyPI),
     ``EventsExecutor.spin()`` never fires timers while ``spin_once`` does (measured).
@@ -48,10 +73,16 @@ def make_executor():
 
 
 def run_node(node_class, args=None, on_shutdown: str | None = None) -> int:
-    """Console-script body: init, spin ``node_class()`` until SIGINT / SIGTERM / shutdown, then call its
-    ``on_shutdown`` method *while the context is still valid* (the controller publishes its hold command
-    there), clean up and return an exit code. No traceback on a signal; a node that cannot start (bad
-    parameters, missing URDF) says why in one line and returns 1."""
+    """
+    Console-script body.
+
+    init, spin ``node_class()`` until SIGINT / SIGTERM / shutdown, then call its ``on_shutdown``
+    method *while the context is still valid* (the controller publishes its hold command there),
+    clean up and return an exit code.
+
+    No traceback on a signal; a node that cannot start (bad parameters, missing URDF) says why in
+    one line and returns 1.
+    """
     import signal  # noqa: PLC0415
 
     from rclpy.signals import SignalHandlerOptions  # noqa: PLC0415
@@ -72,18 +103,20 @@ def run_node(node_class, args=None, on_shutdown: str | None = None) -> int:
         while not received and rclpy.ok() and node.context.ok():
             executor.spin_once(timeout_sec=0.05)
     except Exception as exc:  # noqa: BLE001 - start-up errors: one clear line, no traceback
-        name = getattr(node_class, "__name__", "node")
-        print(f"[{name}] cannot run: {type(exc).__name__}: {exc}", flush=True)
+        name = getattr(node_class, '__name__', 'node')
+        print(f'[{name}] cannot run: {type(exc).__name__}: {exc}', flush=True)
         code = 1
     finally:
         if node is not None:
             if received:
-                node.get_logger().info(f"{signal.Signals(received[0]).name} received: shutting down")
+                node.get_logger().info(
+                    f'{signal.Signals(received[0]).name} received: shutting down'
+                )
             if on_shutdown:
                 try:
                     getattr(node, on_shutdown)()
                 except Exception as exc:  # noqa: BLE001
-                    node.get_logger().error(f"shutdown action failed: {exc}")
+                    node.get_logger().error(f'shutdown action failed: {exc}')
             node.destroy_node()
         if rclpy.ok():
             rclpy.shutdown()
@@ -103,21 +136,28 @@ def sec_to_stamp(t: float, msg_stamp) -> None:
 
 
 def pose_to_matrix(pose) -> np.ndarray:
-    """geometry_msgs/Pose -> 4x4. Raises ValueError on non-finite or zero quaternions."""
+    """
+    geometry_msgs/Pose -> 4x4.
+
+    Raises ValueError on non-finite or zero quaternions.
+    """
     p, o = pose.position, pose.orientation
     vals = np.array([p.x, p.y, p.z, o.x, o.y, o.z, o.w], dtype=float)
     if not np.all(np.isfinite(vals)):
-        raise ValueError("pose contains NaN or infinite values")
+        raise ValueError('pose contains NaN or infinite values')
     q = vals[3:]
     nq = np.linalg.norm(q)
     if nq < 1e-6:
-        raise ValueError("pose orientation is a zero quaternion")
+        raise ValueError('pose orientation is a zero quaternion')
     x, y, z, w = q / nq
     T = np.eye(4)
-    T[:3, :3] = np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    T[:3, :3] = np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
     T[:3, 3] = vals[:3]
     return T
 

@@ -1,32 +1,52 @@
-"""The controller node's ``/diagnostics`` (mixed into the node): level and reason from :mod:`.health`, plus the
-numbers a user asks for first (solver status and time, loop period quantiles and jitter, RSS, active tasks).
-
-A joint state older than ``state_timeout`` (0.5 s at least in lockstep) is an ERROR even when no cycle runs
-to notice it (lockstep with a dead simulator). Parameters: ``diagnostics_rate`` [5 Hz]; ``overrun_factor`` [1.5]: a loop period above this many nominal
-periods counts as an overrun (not judged in lockstep, where the simulator sets the pace);
-``error_warn_threshold`` [0.01 m] and ``error_warn_time`` [2 s]: a Cartesian task further than this from its
-target for longer is reported (WARN).
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+The controller node's ``/diagnostics`` (mixed into the node).
+
+Level and reason from :mod:`.health`, plus the numbers a user asks for first (solver status and
+time, loop period quantiles and jitter, RSS, active tasks).
+
+A joint state older than ``state_timeout`` (0.5 s at least in lockstep) is an ERROR even when no
+cycle runs to notice it (lockstep with a dead simulator). Parameters: ``diagnostics_rate`` [5 Hz];
+``overrun_factor`` [1.5]: a loop period above this many nominal periods counts as an overrun (not
+judged in lockstep, where the simulator sets the pace); ``error_warn_threshold`` [0.01 m] and
+``error_warn_time`` [2 s]: a Cartesian task further than this from its target for longer is
+reported (WARN).
+"""
+
 from __future__ import annotations
 
 import time
 
-import numpy as np
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+import numpy as np
 
 from .common import DEFAULT_QOS, param
-from .health import TaskErrorWatch, assess
+from .health import assess, TaskErrorWatch
 
 _LEVEL = {0: DiagnosticStatus.OK, 1: DiagnosticStatus.WARN, 2: DiagnosticStatus.ERROR}
 
 
 class ControllerDiagnostics:
     def setup_diagnostics(self, rate: float) -> None:
-        self.overrun_factor = float(param(self, "overrun_factor", 1.5))
-        self.error_watch = TaskErrorWatch(float(param(self, "error_warn_threshold", 0.01)),
-                                          float(param(self, "error_warn_time", 2.0)))
+        self.overrun_factor = float(param(self, 'overrun_factor', 1.5))
+        self.error_watch = TaskErrorWatch(
+            float(param(self, 'error_warn_threshold', 0.01)),
+            float(param(self, 'error_warn_time', 2.0)),
+        )
         self._diag_marks = (0, 0, 0)  # cycles, QP failures, dropped levels at the previous report
-        self.pub_diag = self.create_publisher(DiagnosticArray, "/diagnostics", DEFAULT_QOS)
+        self.pub_diag = self.create_publisher(DiagnosticArray, '/diagnostics', DEFAULT_QOS)
         self.diagnostic_level = DiagnosticStatus.WARN
         if rate > 0:
             self.create_timer(1.0 / rate, self._publish_diagnostics)
@@ -35,42 +55,70 @@ class ControllerDiagnostics:
         """Solve times and loop periods over the last ``statistics_window`` cycles."""
         sol, per = self.solve_times, self.loop_periods
         jitter = np.abs(per.values() - self.period) if len(per) else np.zeros(1)
-        return {"solve_median_us": sol.quantile(0.5) * 1e6, "solve_p99_us": sol.quantile(0.99) * 1e6,
-                "solve_max_us": sol.max() * 1e6,
-                "period_mean_ms": per.mean() * 1e3, "period_median_ms": per.quantile(0.5) * 1e3,
-                "period_p99_ms": per.quantile(0.99) * 1e3, "period_p999_ms": per.quantile(0.999) * 1e3,
-                "period_max_ms": per.max() * 1e3, "cycles": sol.total,
-                "jitter_p99_ms": float(np.percentile(jitter, 99) * 1e3)}
+        return {
+            'solve_median_us': sol.quantile(0.5) * 1e6,
+            'solve_p99_us': sol.quantile(0.99) * 1e6,
+            'solve_max_us': sol.max() * 1e6,
+            'period_mean_ms': per.mean() * 1e3,
+            'period_median_ms': per.quantile(0.5) * 1e3,
+            'period_p99_ms': per.quantile(0.99) * 1e3,
+            'period_p999_ms': per.quantile(0.999) * 1e3,
+            'period_max_ms': per.max() * 1e3,
+            'cycles': sol.total,
+            'jitter_p99_ms': float(np.percentile(jitter, 99) * 1e3),
+        }
 
     def _publish_diagnostics(self) -> None:
-        cycles, fails, dropped = self.loop_periods.total, self.qp_failures, self.controller.dropped_levels
+        cycles, fails, dropped = (
+            self.loop_periods.total,
+            self.qp_failures,
+            self.controller.dropped_levels,
+        )
         c0, f0, d0 = self._diag_marks
         self._diag_marks = (cycles, fails, dropped)
-        # lockstep: a paused simulator re-announces its state about every 0.25 s, which is not a fault
-        timeout = self.state_timeout if self.trigger == "timer" else max(self.state_timeout, 0.5)
+        # lockstep: a paused simulator re-announces its state about every 0.25 s, which is not a
+        # fault
+        timeout = self.state_timeout if self.trigger == 'timer' else max(self.state_timeout, 0.5)
         age = time.monotonic() - self._state_wall if self._have_state else 0.0
         level, message = assess(
-            have_state=self._have_state, state_age=age, state_timeout=timeout, safe_reason=self._safe_reason, safe_cause=self._safe_cause,
-            qp_failures=fails - f0, dropped_levels=dropped - d0, periods=self.loop_periods.latest(cycles - c0),
-            nominal_period=self.period, check_periods=self.trigger == "timer", overrun_factor=self.overrun_factor,
-            persistent_errors=self.error_watch.persistent(self._now()) if self._have_state else [])
+            have_state=self._have_state,
+            state_age=age,
+            state_timeout=timeout,
+            safe_reason=self._safe_reason,
+            safe_cause=self._safe_cause,
+            qp_failures=fails - f0,
+            dropped_levels=dropped - d0,
+            periods=self.loop_periods.latest(cycles - c0),
+            nominal_period=self.period,
+            check_periods=self.trigger == 'timer',
+            overrun_factor=self.overrun_factor,
+            persistent_errors=self.error_watch.persistent(self._now()) if self._have_state else [],
+        )
         st = DiagnosticStatus()
-        st.name = f"{self.get_name()}: whole-body controller"
+        st.name = f'{self.get_name()}: whole-body controller'
         st.hardware_id = self.robot.name
         st.level, st.message = _LEVEL[level], message
         self.diagnostic_level = st.level
         stats = self.loop_statistics()
         active = [n for n, t in self.setup.tasks.items() if t.is_computing()]
-        values = {"solver_status": self.controller.get_return_code().value, "solver": self.controller.solver.value,
-                  "solve_time_median_us": f"{stats['solve_median_us']:.1f}",
-                  "solve_time_p99_us": f"{stats['solve_p99_us']:.1f}",
-                  "loop_period_mean_ms": f"{stats['period_mean_ms']:.3f}",
-                  "loop_period_p99_ms": f"{stats['period_p99_ms']:.3f}",
-                  "loop_period_p999_ms": f"{stats['period_p999_ms']:.3f}",
-                  "loop_period_max_ms": f"{stats['period_max_ms']:.3f}",
-                  "loop_jitter_p99_ms": f"{stats['jitter_p99_ms']:.3f}",
-                  "cycles": str(stats["cycles"]), "qp_failures": str(fails), "dropped_levels": str(dropped),
-                  "rss_kb": str(_rss_kb()), "solver_budget": self._budget_text(), "active_tasks": ",".join(active), "enabled": str(self._enabled)}
+        values = {
+            'solver_status': self.controller.get_return_code().value,
+            'solver': self.controller.solver.value,
+            'solve_time_median_us': f'{stats["solve_median_us"]:.1f}',
+            'solve_time_p99_us': f'{stats["solve_p99_us"]:.1f}',
+            'loop_period_mean_ms': f'{stats["period_mean_ms"]:.3f}',
+            'loop_period_p99_ms': f'{stats["period_p99_ms"]:.3f}',
+            'loop_period_p999_ms': f'{stats["period_p999_ms"]:.3f}',
+            'loop_period_max_ms': f'{stats["period_max_ms"]:.3f}',
+            'loop_jitter_p99_ms': f'{stats["jitter_p99_ms"]:.3f}',
+            'cycles': str(stats['cycles']),
+            'qp_failures': str(fails),
+            'dropped_levels': str(dropped),
+            'rss_kb': str(_rss_kb()),
+            'solver_budget': self._budget_text(),
+            'active_tasks': ','.join(active),
+            'enabled': str(self._enabled),
+        }
         st.values = [KeyValue(key=k, value=v) for k, v in values.items()]
         arr = DiagnosticArray()
         arr.header.stamp = self.get_clock().now().to_msg()
@@ -79,16 +127,16 @@ class ControllerDiagnostics:
 
     def _budget_text(self) -> str:
         budget, cap = self.controller.get_solver_budget()
-        when = "one period" if budget is None else f"{budget * 1e3:g} ms"
-        return f"{when}, {'default' if cap is None else cap} iterations"
+        when = 'one period' if budget is None else f'{budget * 1e3:g} ms'
+        return f'{when}, {"default" if cap is None else cap} iterations'
 
 
 def _rss_kb() -> int:
     """Resident set size of this process in kB (Linux; 0 elsewhere)."""
     try:
-        with open("/proc/self/status") as f:
+        with open('/proc/self/status') as f:
             for line in f:
-                if line.startswith("VmRSS:"):
+                if line.startswith('VmRSS:'):
                     return int(line.split()[1])
     except OSError:
         pass

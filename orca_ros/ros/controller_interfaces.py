@@ -1,24 +1,40 @@
-"""The controller node's task targets, services, feedback and diagnostics (mixed into the node).
-
-Per task ``<name>``: ``~/tasks/<name>/target_pose`` (geometry_msgs/PoseStamped; frame_id = any model link,
-empty = the base frame) for Cartesian tasks, ``~/tasks/<name>/target`` (sensor_msgs/JointState) for joint
-tasks, ``~/tasks/<name>/set_active`` (std_srvs/SetBool, ramped), and the feedback ``~/tasks/<name>/current_pose``
-(PoseStamped) and ``~/tasks/<name>/error`` (Float64MultiArray: pose error [linear, angular] or joint error).
-Node services: ``~/activate`` / ``~/deactivate`` (Trigger: every task and constraint, ramped),
-``~/enable`` (SetBool: false = hold with the safe command), ``~/reset_targets`` (Trigger: targets := current
-state). ``/diagnostics``: solver status, solve time, loop period and jitter, active tasks.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+The controller node's task targets, services, feedback and diagnostics (mixed into the node).
+
+Per task ``<name>``: ``~/tasks/<name>/target_pose`` (geometry_msgs/PoseStamped; frame_id = any
+model link, empty = the base frame) for Cartesian tasks, ``~/tasks/<name>/target``
+(sensor_msgs/JointState) for joint tasks, ``~/tasks/<name>/set_active`` (std_srvs/SetBool, ramped),
+and the feedback ``~/tasks/<name>/current_pose`` (PoseStamped) and ``~/tasks/<name>/error``
+(Float64MultiArray: pose error [linear, angular] or joint error). Node services: ``~/activate`` /
+``~/deactivate`` (Trigger: every task and constraint, ramped), ``~/enable`` (SetBool: false = hold
+with the safe command), ``~/reset_targets`` (Trigger: targets := current state). ``/diagnostics``:
+solver status, solve time, loop period and jitter, active tasks.
+"""
+
 from __future__ import annotations
 
-import numpy as np
 from geometry_msgs.msg import PoseStamped
+import numpy as np
 from sensor_msgs.msg import JointState
-from trajectory_msgs.msg import MultiDOFJointTrajectoryPoint
 from std_msgs.msg import Float64MultiArray
 from std_srvs.srv import SetBool, Trigger
+from trajectory_msgs.msg import MultiDOFJointTrajectoryPoint
 
-from ..task import CartesianTask, CoMTask, JointAccelerationTask, JointTorqueTask
 from .common import DEFAULT_QOS, matrix_to_pose, pose_to_matrix
+from ..task import CartesianTask, CoMTask, JointAccelerationTask, JointTorqueTask
 
 
 class ControllerInterfaces:
@@ -26,24 +42,40 @@ class ControllerInterfaces:
         self._target_time: dict[str, float] = {}
         self._feedback_pubs = {}
         for name, task in self.setup.tasks.items():
-            base = f"~/tasks/{name}"
+            base = f'~/tasks/{name}'
             if isinstance(task, CartesianTask):
-                self.create_subscription(PoseStamped, f"{base}/target_pose",
-                                         lambda m, n=name: self._on_target_pose(n, m), DEFAULT_QOS)
-                self.create_subscription(MultiDOFJointTrajectoryPoint, f"{base}/target_point",
-                                         lambda m, n=name: self._on_target_point(n, m), DEFAULT_QOS)
-                pose_pub = self.create_publisher(PoseStamped, f"{base}/current_pose", DEFAULT_QOS)
+                self.create_subscription(
+                    PoseStamped,
+                    f'{base}/target_pose',
+                    lambda m, n=name: self._on_target_pose(n, m),
+                    DEFAULT_QOS,
+                )
+                self.create_subscription(
+                    MultiDOFJointTrajectoryPoint,
+                    f'{base}/target_point',
+                    lambda m, n=name: self._on_target_point(n, m),
+                    DEFAULT_QOS,
+                )
+                pose_pub = self.create_publisher(PoseStamped, f'{base}/current_pose', DEFAULT_QOS)
             else:
-                self.create_subscription(JointState, f"{base}/target",
-                                         lambda m, n=name: self._on_joint_target(n, m), DEFAULT_QOS)
+                self.create_subscription(
+                    JointState,
+                    f'{base}/target',
+                    lambda m, n=name: self._on_joint_target(n, m),
+                    DEFAULT_QOS,
+                )
                 pose_pub = None
-            err_pub = self.create_publisher(Float64MultiArray, f"{base}/error", DEFAULT_QOS)
+            err_pub = self.create_publisher(Float64MultiArray, f'{base}/error', DEFAULT_QOS)
             self._feedback_pubs[name] = (pose_pub, err_pub)
-            self.create_service(SetBool, f"{base}/set_active", lambda rq, rs, n=name: self._on_set_active(n, rq, rs))
-        self.create_service(Trigger, "~/activate", self._on_activate)
-        self.create_service(Trigger, "~/deactivate", self._on_deactivate)
-        self.create_service(SetBool, "~/enable", self._on_enable)
-        self.create_service(Trigger, "~/reset_targets", self._on_reset_targets)
+            self.create_service(
+                SetBool,
+                f'{base}/set_active',
+                lambda rq, rs, n=name: self._on_set_active(n, rq, rs),
+            )
+        self.create_service(Trigger, '~/activate', self._on_activate)
+        self.create_service(Trigger, '~/deactivate', self._on_deactivate)
+        self.create_service(SetBool, '~/enable', self._on_enable)
+        self.create_service(Trigger, '~/reset_targets', self._on_reset_targets)
         self.setup_diagnostics(diagnostics_rate)
         if feedback_rate > 0:
             self.create_timer(1.0 / feedback_rate, self._publish_feedback)
@@ -61,8 +93,10 @@ class ControllerInterfaces:
             base = self.robot.get_base_frame()
             if frame and frame != base:
                 if not self.robot.frame_exists(frame):
-                    raise ValueError(f"unknown frame '{frame}' (use 'world', '' for the base frame '{base}', "
-                                     "or a link of the model)")
+                    raise ValueError(
+                        f"unknown frame '{frame}' (use 'world', '' for the base frame '{base}', "
+                        'or a link of the model)'
+                    )
                 if not self._have_state:
                     raise ValueError(f"frame '{frame}' needs a joint state to be resolved")
                 self._apply_state()
@@ -72,7 +106,7 @@ class ControllerInterfaces:
             if not (self._have_state and self.smooth_target(name, T)):
                 task.servo_controller().set_desired(T)
         except ValueError as exc:
-            self.say("error", f"target:{name}", f"target for task '{name}' rejected: {exc}")
+            self.say('error', f'target:{name}', f"target for task '{name}' rejected: {exc}")
             return
         self._target_time[name] = self._now()
 
@@ -81,7 +115,7 @@ class ControllerInterfaces:
         task = self.setup.tasks[name]
         try:
             if len(msg.transforms) != 1:
-                raise ValueError("target_point needs exactly one transform")
+                raise ValueError('target_point needs exactly one transform')
             tr = msg.transforms[0]
             T = np.eye(4)
             T[:3, 3] = (tr.translation.x, tr.translation.y, tr.translation.z)
@@ -90,16 +124,24 @@ class ControllerInterfaces:
             vel, acc = np.zeros(6), np.zeros(6)
             for src, out in ((msg.velocities, vel), (msg.accelerations, acc)):
                 if len(src) > 1:
-                    raise ValueError("at most one velocity and one acceleration")
+                    raise ValueError('at most one velocity and one acceleration')
                 if len(src) == 1:
-                    out[:] = (src[0].linear.x, src[0].linear.y, src[0].linear.z,
-                              src[0].angular.x, src[0].angular.y, src[0].angular.z)
-            if not (np.all(np.isfinite(T)) and np.all(np.isfinite(vel)) and np.all(np.isfinite(acc))):
-                raise ValueError("NaN or infinite values")
+                    out[:] = (
+                        src[0].linear.x,
+                        src[0].linear.y,
+                        src[0].linear.z,
+                        src[0].angular.x,
+                        src[0].angular.y,
+                        src[0].angular.z,
+                    )
+            if not (
+                np.all(np.isfinite(T)) and np.all(np.isfinite(vel)) and np.all(np.isfinite(acc))
+            ):
+                raise ValueError('NaN or infinite values')
             self.stop_trajectory(name)  # a trajectory point already: as it is
             task.servo_controller().set_desired(T, vel, acc)
         except ValueError as exc:
-            self.say("error", f"target:{name}", f"target point for task '{name}' rejected: {exc}")
+            self.say('error', f'target:{name}', f"target point for task '{name}' rejected: {exc}")
             return
         self._target_time[name] = self._now()
 
@@ -109,7 +151,7 @@ class ControllerInterfaces:
             names = list(msg.name)
             missing = [j for j in self.setup.joints if j not in names]
             if missing:
-                raise ValueError(f"missing joints {missing}")
+                raise ValueError(f'missing joints {missing}')
             idx = [names.index(j) for j in self.setup.joints]
             model = self._wire_of_model
 
@@ -117,7 +159,7 @@ class ControllerInterfaces:
                 if len(arr) == 0:
                     return None
                 if len(arr) != len(names):
-                    raise ValueError("array sizes do not match the joint names")
+                    raise ValueError('array sizes do not match the joint names')
                 return np.asarray(arr, dtype=float)[idx][model]
 
             pos, vel, eff = pick(msg.position), pick(msg.velocity), pick(msg.effort)
@@ -129,12 +171,12 @@ class ControllerInterfaces:
                 if pos is None:
                     raise ValueError("a joint task needs 'position' values")
                 if not np.isfinite(pos).all() or (vel is not None and not np.isfinite(vel).all()):
-                    raise ValueError("NaN or infinite values")
+                    raise ValueError('NaN or infinite values')
                 if vel is not None or not (self._have_state and self.smooth_target(name, pos)):
                     self.stop_trajectory(name)
                     task.set_desired(pos, vel)
         except ValueError as exc:
-            self.say("error", f"target:{name}", f"target for task '{name}' rejected: {exc}")
+            self.say('error', f'target:{name}', f"target for task '{name}' rejected: {exc}")
             return
         self._target_time[name] = self._now()
 
@@ -143,13 +185,19 @@ class ControllerInterfaces:
             return
         for name, stamp in list(self._target_time.items()):
             if t - stamp > self.target_timeout:
-                self.get_logger().warning(f"target of task '{name}' older than {self.target_timeout} s: "
-                                          "holding the current state")
+                self.get_logger().warning(
+                    f"target of task '{name}' older than {self.target_timeout} s: "
+                    'holding the current state'
+                )
                 self._hold_task(self.setup.tasks[name])
                 del self._target_time[name]
 
     def _hold_task(self, task) -> None:
-        """Target := the current state (zero velocity), integrators cleared: the task stops pulling."""
+        """
+        Target := the current state (zero velocity), integrators cleared.
+
+        The task stops pulling.
+        """
         self.stop_trajectory(task.name)
         if isinstance(task, CartesianTask):
             task.servo_controller().hold_current_pose()
@@ -169,22 +217,28 @@ class ControllerInterfaces:
             self._hold_task(task)  # ramping out where it is, not pulling towards its old target
         changed = task.activate() if req.data else task.deactivate()
         res.success = True
-        res.message = f"task '{name}' {'activating' if req.data else 'deactivating'}" if changed else \
-            f"task '{name}' already {task.get_state().value}"
+        res.message = (
+            f"task '{name}' {'activating' if req.data else 'deactivating'}"
+            if changed
+            else f"task '{name}' already {task.get_state().value}"
+        )
         return res
 
     def _on_activate(self, req, res):
         self.controller.activate_tasks_and_constraints()
-        res.success, res.message = True, "activating every task and constraint"
+        res.success, res.message = True, 'activating every task and constraint'
         return res
 
     def _on_deactivate(self, req, res):
-        # stop where you are: every target latches to the current state before the ramps start, so nothing
-        # pulls while the tasks fade out; what remains is gravity compensation at rest
+        # stop where you are: every target latches to the current state before the ramps start, so
+        # nothing pulls while the tasks fade out; what remains is gravity compensation at rest
         if self._have_state:
             self._reset_targets()
         self.controller.deactivate_tasks_and_constraints()
-        res.success, res.message = True, "deactivating every task and constraint (targets latched to the current state)"
+        res.success, res.message = (
+            True,
+            'deactivating every task and constraint (targets latched to the current state)',
+        )
         return res
 
     def _on_enable(self, req, res):
@@ -192,15 +246,15 @@ class ControllerInterfaces:
             self._reset_targets()  # resume from where the robot is, not from old targets
         self._enabled = bool(req.data)
         res.success = True
-        res.message = "control enabled" if req.data else "holding (gravity + damping)"
+        res.message = 'control enabled' if req.data else 'holding (gravity + damping)'
         return res
 
     def _on_reset_targets(self, req, res):
         if not self._have_state:
-            res.success, res.message = False, "no joint state received yet"
+            res.success, res.message = False, 'no joint state received yet'
             return res
         self._reset_targets()
-        res.success, res.message = True, "targets set to the current state"
+        res.success, res.message = True, 'targets set to the current state'
         return res
 
     def _reset_targets(self) -> None:
@@ -225,8 +279,9 @@ class ControllerInterfaces:
                 matrix_to_pose(servo.get_current_cartesian_pose(), msg.pose)
                 pose_pub.publish(msg)
                 e = servo.get_cartesian_pose_error()
-                self.error_watch.observe(name, float(np.linalg.norm(e[:3])) if task.is_computing() else 0.0,
-                                         self._now())
+                self.error_watch.observe(
+                    name, float(np.linalg.norm(e[:3])) if task.is_computing() else 0.0, self._now()
+                )
                 err.data = e.tolist()
             elif isinstance(task, JointAccelerationTask):
                 err.data = task.get_position_error().tolist()
@@ -234,7 +289,7 @@ class ControllerInterfaces:
 
 
 def _quat_pose(q):
-    """A geometry_msgs Pose with orientation q (for pose_to_matrix's quaternion checks)."""
+    """Make a geometry_msgs Pose with orientation q (for pose_to_matrix's quaternion checks)."""
     from geometry_msgs.msg import Pose  # noqa: PLC0415
 
     p = Pose()

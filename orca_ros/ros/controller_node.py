@@ -1,65 +1,113 @@
-"""orca_controller: the whole-body controller as a ROS 2 node.
-
-In: ``joint_states`` (mapped by name, extra joints ignored, best effort, depth 1). Out: effort commands on
-``command_topic`` (Float64MultiArray in the ``joints`` order, reliable). The QP runs in a fixed-rate timer
-(``trigger: timer``) or once per received state (``trigger: joint_state``, for lockstep simulation).
-Task targets, services, feedback and diagnostics: see :mod:`orca_ros.ros.controller_interfaces`.
-
-Safety: nothing is published before the first valid joint state; NaN/incomplete states are rejected; a stale
-state, a QP failure, ``~/enable false`` or shutdown switch to the safe command (last command fading into
-gravity + damping, see :class:`orca_ros.safety.SafeCommand`), with a log line saying why; normal control
-resumes when good data returns.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+orca_controller: the whole-body controller as a ROS 2 node.
+
+In: ``joint_states`` (mapped by name, extra joints ignored, best effort, depth 1). Out: effort
+commands on ``command_topic`` (Float64MultiArray in the ``joints`` order, reliable). The QP runs in
+a fixed-rate timer (``trigger: timer``) or once per received state (``trigger: joint_state``, for
+lockstep simulation). Task targets, services, feedback and diagnostics: see
+:mod:`orca_ros.ros.controller_interfaces`.
+
+Safety: nothing is published before the first valid joint state; NaN/incomplete states are
+rejected; a stale state, a QP failure, ``~/enable false`` or shutdown switch to the safe command
+(last command fading into gravity + damping, see :class:`orca_ros.safety.SafeCommand`), with a log
+line saying why; normal control resumes when good data returns.
+"""
+
 from __future__ import annotations
 
 import gc
 import sys
 import time
 
-import numpy as np
 from nav_msgs.msg import Odometry
+import numpy as np
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
 
-from ..configuration import build_from_config
-from ..safety import SafeCommand
-from ..utils.ring_buffer import RingBuffer
-from .common import COMMAND_QOS, STATE_QOS, nested_parameters, param, pose_to_matrix, run_node, stamp_to_sec
+from .common import (
+    COMMAND_QOS,
+    nested_parameters,
+    param,
+    pose_to_matrix,
+    run_node,
+    stamp_to_sec,
+    STATE_QOS,
+)
 from .controller_diagnostics import ControllerDiagnostics
 from .controller_interfaces import ControllerInterfaces
 from .guarded_node import GuardedNode
 from .joint_state_input import JointStateInput, StateRejected
 from .live_parameters import LiveParameters
 from .target_smoothing import TargetSmoothing
+from ..configuration import build_from_config
+from ..safety import SafeCommand
+from ..utils.ring_buffer import RingBuffer
 
 
-class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostics, TargetSmoothing,
-                         LiveParameters):
+class OrcaControllerNode(
+    GuardedNode, ControllerInterfaces, ControllerDiagnostics, TargetSmoothing, LiveParameters
+):
     def __init__(self, **kwargs):
-        super().__init__("orca_controller", automatically_declare_parameters_from_overrides=True, **kwargs)
-        cfg = {k: param(self, k, d) for k, d in (
-            ("urdf_path", "lwr.urdf"), ("robot_description", ""), ("base_frame", ""), ("joints", []),
-            ("solver", "daqp"), ("resolution_strategy", "one_level_weighted"), ("floating_base", False),
-            ("gravity_compensated_by_hardware", False))}
-        cfg["tasks"] = nested_parameters(self, "tasks")
-        self.floating = bool(cfg["floating_base"])
-        cfg["constraints"] = nested_parameters(self, "constraints")
+        super().__init__(
+            'orca_controller', automatically_declare_parameters_from_overrides=True, **kwargs
+        )
+        cfg = {
+            k: param(self, k, d)
+            for k, d in (
+                ('urdf_path', 'lwr.urdf'),
+                ('robot_description', ''),
+                ('base_frame', ''),
+                ('joints', []),
+                ('solver', 'daqp'),
+                ('resolution_strategy', 'one_level_weighted'),
+                ('floating_base', False),
+                ('gravity_compensated_by_hardware', False),
+            )
+        }
+        cfg['tasks'] = nested_parameters(self, 'tasks')
+        self.floating = bool(cfg['floating_base'])
+        cfg['constraints'] = nested_parameters(self, 'constraints')
         self.setup = setup = build_from_config(cfg)
         self.robot, self.controller = setup.robot, setup.controller
         self.n = len(setup.joints)
-        self.update_rate = float(param(self, "update_rate", 1000.0))
+        self.update_rate = float(param(self, 'update_rate', 1000.0))
         self.period = 1.0 / self.update_rate
-        self.trigger = str(param(self, "trigger", "timer"))
-        self.state_timeout = float(param(self, "state_timeout", 0.05))
-        self.solver_budget = [float(param(self, "solver_time_budget", 0.0)), int(param(self, "solver_max_iterations", 0))]
+        self.trigger = str(param(self, 'trigger', 'timer'))
+        self.state_timeout = float(param(self, 'state_timeout', 0.05))
+        self.solver_budget = [
+            float(param(self, 'solver_time_budget', 0.0)),
+            int(param(self, 'solver_max_iterations', 0)),
+        ]
         self.set_solver_budget(*self.solver_budget)
-        self.target_timeout = float(param(self, "target_timeout", 0.0))
-        self.safe = SafeCommand(self.robot, setup.gravity_compensated_by_hardware,
-                                float(param(self, "safe_damping", 10.0)), float(param(self, "safe_ramp", 0.2)))
+        self.target_timeout = float(param(self, 'target_timeout', 0.0))
+        self.safe = SafeCommand(
+            self.robot,
+            setup.gravity_compensated_by_hardware,
+            float(param(self, 'safe_damping', 10.0)),
+            float(param(self, 'safe_ramp', 0.2)),
+        )
         self._wire_of_model = setup.model_index  # model joint k -> wire slot
-        self._velocity_factor = float(param(self, "velocity_factor", 3.0))
-        self._input = JointStateInput(self.robot, setup.joints, setup.model_index,
-                                      float(param(self, "position_margin", 0.1)), self._velocity_factor)
+        self._velocity_factor = float(param(self, 'velocity_factor', 3.0))
+        self._input = JointStateInput(
+            self.robot,
+            setup.joints,
+            setup.model_index,
+            float(param(self, 'position_margin', 0.1)),
+            self._velocity_factor,
+        )
         self._q = np.zeros(self.n)
         self._v = np.zeros(self.n)
         self._q_in = np.zeros(self.n)
@@ -67,7 +115,7 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
         self._stopped = False
         self._state_stamp = None
         self._state_wall = None  # wall time of the last valid joint state
-        self._odom_wall = None   # ... and of the last valid odom (floating base)
+        self._odom_wall = None  # ... and of the last valid odom (floating base)
         self._have_state = False
         self._last_cmd = np.zeros(self.n)  # model order
         self._enabled = True
@@ -76,60 +124,81 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
         self._safe_cause = None
         self.qp_failures = 0
         # loop statistics over a bounded window (nothing grows while the node runs)
-        window = int(param(self, "statistics_window", 10000))
+        window = int(param(self, 'statistics_window', 10000))
         self.solve_times = RingBuffer(window)
         self.loop_periods = RingBuffer(window)
-        # garbage collection kept out of the control cycle: after start-up, everything alive is frozen out of
-        # the collector's sight and automatic collection is off; a low-rate timer collects the youngest
-        # generation between cycles (the cycle itself allocates little and creates no reference cycles)
-        self.manage_gc = bool(param(self, "manage_gc", True))
+        # garbage collection kept out of the control cycle: after start-up, everything alive is
+        # frozen out of the collector's sight and automatic collection is off; a low-rate timer
+        # collects the youngest generation between cycles (the cycle itself allocates little and
+        # creates no reference cycles)
+        self.manage_gc = bool(param(self, 'manage_gc', True))
         self._gc_frozen = False
         self._last_loop_wall = None
         self._cmd_msg = Float64MultiArray()
         self._cmd_msg.data = [0.0] * self.n
-        self.pub_cmd = self.create_publisher(Float64MultiArray, str(param(self, "command_topic",
-                                                                          "/effort_controller/commands")),
-                                             COMMAND_QOS)
-        self.create_subscription(JointState, "joint_states", self._on_joint_state, STATE_QOS)
-        # floating base: the base pose and twist come from odom (nav_msgs/Odometry, twist in child_frame_id)
+        self.pub_cmd = self.create_publisher(
+            Float64MultiArray,
+            str(param(self, 'command_topic', '/effort_controller/commands')),
+            COMMAND_QOS,
+        )
+        self.create_subscription(JointState, 'joint_states', self._on_joint_state, STATE_QOS)
+        # floating base: the base pose and twist come from odom (nav_msgs/Odometry, twist in
+        # child_frame_id)
         self._base_T = np.eye(4)
         self._base_twist = np.zeros(6)
         self._odom_stamp = None
-        self._gravity = np.array(param(self, "gravity", [0.0, 0.0, -9.81]), dtype=float)
+        self._gravity = np.array(param(self, 'gravity', [0.0, 0.0, -9.81]), dtype=float)
         self._computed_stamp = None
         if self.floating:
-            self.create_subscription(Odometry, str(param(self, "odom_topic", "odom")), self._on_odom, STATE_QOS)
-        self.setup_trajectories(cfg["tasks"])
-        self.setup_interfaces(float(param(self, "diagnostics_rate", 5.0)), float(param(self, "feedback_rate", 50.0)))
+            self.create_subscription(
+                Odometry, str(param(self, 'odom_topic', 'odom')), self._on_odom, STATE_QOS
+            )
+        self.setup_trajectories(cfg['tasks'])
+        self.setup_interfaces(
+            float(param(self, 'diagnostics_rate', 5.0)), float(param(self, 'feedback_rate', 50.0))
+        )
         if self.manage_gc:
-            self.create_timer(float(param(self, "gc_period", 1.0)), self._collect_garbage)
-        if self.trigger == "timer":
+            self.create_timer(float(param(self, 'gc_period', 1.0)), self._collect_garbage)
+        if self.trigger == 'timer':
             self.create_timer(self.period, self._control_step)
-        elif self.trigger != "joint_state":
+        elif self.trigger != 'joint_state':
             raise ValueError(f"trigger must be 'timer' or 'joint_state', got '{self.trigger}'")
         self.setup_live_parameters()
-        self.get_logger().info(f"orca_controller: {self.n} joints, {self.update_rate:.0f} Hz ({self.trigger}), "
-                               f"solver {self.controller.solver.value}, tasks {list(setup.tasks)}")
+        self.get_logger().info(
+            f'orca_controller: {self.n} joints, {self.update_rate:.0f} Hz ({self.trigger}), '
+            f'solver {self.controller.solver.value}, tasks {list(setup.tasks)}'
+        )
 
     def set_solver_budget(self, time_budget: float, max_iterations: int) -> None:
-        """0 s: one control period with a timer (the cycle must end in time), 50 ms in lockstep (the simulation
-        waits for the command: a busy machine must not change the outcome); 0 iterations: the solver's cap."""
+        """
+        0 s: one control period with a timer (the cycle must end in time).
+
+        50 ms in lockstep (the simulation waits for the command: a busy machine must not change the
+        outcome); 0 iterations: the solver's cap.
+        """
         if time_budget <= 0.0:
-            time_budget = None if self.trigger == "timer" else 0.05
-        self.controller.set_solver_budget(time_budget, max_iterations if max_iterations > 0 else None)
+            time_budget = None if self.trigger == 'timer' else 0.05
+        self.controller.set_solver_budget(
+            time_budget, max_iterations if max_iterations > 0 else None
+        )
 
     # -------------------------------------------------------------- state input
     def _on_joint_state(self, msg: JointState) -> None:
         try:
             self._input.read(msg.name, msg.position, msg.velocity, self._q_in, self._v_in)
         except StateRejected as exc:
-            self.say("error", exc.cause, str(exc))
+            self.say('error', exc.cause, str(exc))
             return
         stamp = stamp_to_sec(msg.header.stamp)
-        if self.trigger == "joint_state" and self._state_stamp is not None and stamp <= self._state_stamp:
+        if (
+            self.trigger == 'joint_state'
+            and self._state_stamp is not None
+            and stamp <= self._state_stamp
+        ):
             self._state_wall = time.monotonic()
-            # a repeated state: the simulator re-announces itself when no command reached it (e.g. sent before
-            # discovery matched it). Computing again would add a step; the command of that instant is sent again
+            # a repeated state: the simulator re-announces itself when no command reached it (e.g.
+            # sent before discovery matched it). Computing again would add a step; the command of
+            # that instant is sent again
             if stamp == self._computed_stamp and not self._stopped:
                 self.pub_cmd.publish(self._cmd_msg)
             return
@@ -142,10 +211,32 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
     def _on_odom(self, msg: Odometry) -> None:
         p, o = msg.pose.pose.position, msg.pose.pose.orientation
         tw = msg.twist.twist
-        vals = np.array([p.x, p.y, p.z, o.x, o.y, o.z, o.w, tw.linear.x, tw.linear.y, tw.linear.z,
-                         tw.angular.x, tw.angular.y, tw.angular.z], dtype=float)
-        if not np.isfinite(vals).all() or np.abs(vals).max() > 1e6 or not 0.5 < np.abs(vals[3:7]).sum() < 2.5:
-            self.say("error", "odom", "odom rejected: NaN, absurd (> 1e6) or non-unit-quaternion values")
+        vals = np.array(
+            [
+                p.x,
+                p.y,
+                p.z,
+                o.x,
+                o.y,
+                o.z,
+                o.w,
+                tw.linear.x,
+                tw.linear.y,
+                tw.linear.z,
+                tw.angular.x,
+                tw.angular.y,
+                tw.angular.z,
+            ],
+            dtype=float,
+        )
+        if (
+            not np.isfinite(vals).all()
+            or np.abs(vals).max() > 1e6
+            or not 0.5 < np.abs(vals[3:7]).sum() < 2.5
+        ):
+            self.say(
+                'error', 'odom', 'odom rejected: NaN, absurd (> 1e6) or non-unit-quaternion values'
+            )
             return
         T = pose_to_matrix(msg.pose.pose)
         R = T[:3, :3]
@@ -163,7 +254,9 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
 
     def _apply_state(self) -> None:
         if self.floating:
-            self.robot.set_robot_state(self._base_T, self._q, self._base_twist, self._v, self._gravity)
+            self.robot.set_robot_state(
+                self._base_T, self._q, self._base_twist, self._v, self._gravity
+            )
         else:
             self.robot.set_robot_state(self._q, self._v)
 
@@ -173,9 +266,10 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
         if not self._have_state:
             self._have_state = True
             self._apply_state()
-            self.get_logger().info("first joint state received: control starts")
-        if self.trigger == "joint_state":
-            # lockstep: one step per simulated instant, once joint state (and odom) of that instant are in
+            self.get_logger().info('first joint state received: control starts')
+        if self.trigger == 'joint_state':
+            # lockstep: one step per simulated instant, once joint state (and odom) of that instant
+            # are in
             if self.floating and self._odom_stamp != self._state_stamp:
                 return
             if self._computed_stamp == self._state_stamp:
@@ -185,8 +279,9 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
 
     # -------------------------------------------------------------- control
     def _now(self) -> float:
-        # lockstep runs follow the simulated time stamped on the states (deterministic); others the wall clock
-        if self.trigger == "joint_state" and self._state_stamp is not None:
+        # lockstep runs follow the simulated time stamped on the states (deterministic); others the
+        # wall clock
+        if self.trigger == 'joint_state' and self._state_stamp is not None:
             return self._state_stamp
         return time.monotonic()
 
@@ -200,16 +295,22 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
         t = self._now()
         dt = self.period if self._t_prev is None else max(1e-6, t - self._t_prev)
         self._t_prev = t
-        stale = "joint_states" if wall - self._state_wall > self.state_timeout else None
+        stale = 'joint_states' if wall - self._state_wall > self.state_timeout else None
         if stale is None and self.floating and wall - self._odom_wall > self.state_timeout:
-            stale = "odom"
+            stale = 'odom'
         if stale is not None:
-            self._publish_safe(t, "safe:stale", f"{stale} stale (none valid for more than "
-                               f"{self.state_timeout * 1e3:.0f} ms)", fresh=False)
+            self._publish_safe(
+                t,
+                'safe:stale',
+                f'{stale} stale (none valid for more than {self.state_timeout * 1e3:.0f} ms)',
+                fresh=False,
+            )
             return
         self._apply_state()
         if not self._enabled:
-            self._publish_safe(t, "safe:disabled", "controller disabled (~/enable false)", level="info")
+            self._publish_safe(
+                t, 'safe:disabled', 'controller disabled (~/enable false)', level='info'
+            )
             return
         self.expire_targets(t)
         self.advance_trajectories(t)
@@ -217,32 +318,40 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
         try:
             ok = self.controller.update(t, dt)
         except Exception as exc:  # a bug or bad data must not kill the node: go safe and say why
-            self.say("error", "update", f"controller update raised {type(exc).__name__}: {exc}")
+            self.say('error', 'update', f'controller update raised {type(exc).__name__}: {exc}')
             ok = False
         self.solve_times.push(time.perf_counter() - t0)
         if not ok:
             code = self.controller.get_return_code()
             self.qp_failures += 1
-            self._publish_safe(t, "safe:qp", f"no QP solution ({code.value})")
+            self._publish_safe(t, 'safe:qp', f'no QP solution ({code.value})')
             return
         cmd = self.controller.get_joint_torque_command()
         if not np.isfinite(cmd).all():
-            self._publish_safe(t, "safe:nonfinite", "non-finite torque command")
+            self._publish_safe(t, 'safe:nonfinite', 'non-finite torque command')
             return
         if self._safe_reason is not None:
-            self.say("info", "recovered", f"recovered from: {self._safe_reason}")
+            self.say('info', 'recovered', f'recovered from: {self._safe_reason}')
             self._safe_reason = None
             self._safe_cause = None
             self.safe.reset()
         self._publish(np.clip(cmd, -self.safe.limit, self.safe.limit))
 
     def on_callback_error(self, what: str, exc: Exception) -> None:
-        """A callback raised: if control is running, this cycle's output is the safe command."""
-        if self._have_state and not self._stopped and "control_step" in what:
-            self._publish_safe(self._now(), "safe:error", f"{what} raised {type(exc).__name__}")
+        """
+        React to a raising callback.
+
+        If control is running, this cycle sends the safe command.
+        """
+        if self._have_state and not self._stopped and 'control_step' in what:
+            self._publish_safe(self._now(), 'safe:error', f'{what} raised {type(exc).__name__}')
 
     def _collect_garbage(self) -> None:
-        """Between cycles: freeze what start-up allocated (once control runs), then collect the young."""
+        """
+        Between cycles.
+
+        Freeze what start-up allocated (once control runs), then collect the young.
+        """
         if not self._gc_frozen:
             if not self._have_state:
                 return
@@ -253,13 +362,20 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
             return
         gc.collect(1)
 
-    def _publish_safe(self, t: float, cause: str, reason: str, fresh: bool = True, level: str = "warning") -> None:
+    def _publish_safe(
+        self, t: float, cause: str, reason: str, fresh: bool = True, level: str = 'warning'
+    ) -> None:
         if reason != self._safe_reason:
-            self.say(level, cause, f"safe command: {reason}" if level != "info" else f"holding: {reason}")
+            self.say(
+                level,
+                cause,
+                f'safe command: {reason}' if level != 'info' else f'holding: {reason}',
+            )
             self._safe_reason = reason
             self._safe_cause = cause
-        cmd = self.safe.compute(t if fresh else time.monotonic(), self._last_cmd, self._q,
-                                self._v if fresh else None)
+        cmd = self.safe.compute(
+            t if fresh else time.monotonic(), self._last_cmd, self._q, self._v if fresh else None
+        )
         self._publish(cmd)
 
     def _publish(self, cmd_model: np.ndarray) -> None:
@@ -270,8 +386,12 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
         self.pub_cmd.publish(self._cmd_msg)
 
     def shutdown_command(self) -> None:
-        """On SIGINT / SIGTERM / shutdown, while the context is valid: stop the loop and send the hold
-        (gravity at the last state, zero when the drives compensate it), waiting until it is delivered."""
+        """
+        On SIGINT / SIGTERM / shutdown, while the context is valid.
+
+        Stop the loop and send the hold (gravity at the last state, zero when the drives compensate
+        it), waiting until it is delivered.
+        """
         self._stopped = True
         if not self._have_state:
             return
@@ -279,12 +399,14 @@ class OrcaControllerNode(GuardedNode, ControllerInterfaces, ControllerDiagnostic
         from rclpy.duration import Duration  # noqa: PLC0415
 
         delivered = self.pub_cmd.wait_for_all_acked(Duration(seconds=0.5))
-        self.get_logger().info("shutdown: hold command sent" + ("" if delivered else " (delivery not confirmed)"))
+        self.get_logger().info(
+            'shutdown: hold command sent' + ('' if delivered else ' (delivery not confirmed)')
+        )
 
 
 def main(args=None) -> int:
-    return run_node(OrcaControllerNode, args, on_shutdown="shutdown_command")
+    return run_node(OrcaControllerNode, args, on_shutdown='shutdown_command')
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

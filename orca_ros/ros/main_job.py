@@ -1,11 +1,27 @@
-"""The main job: the arm driven through ROS 2 exactly as a user would drive a robot.
-
-Starts ``pybullet_bridge`` and ``orca_controller`` as separate processes (launch-free, private ROS domain),
-sends a sequence of Cartesian targets on ``~/tasks/ee/target_pose``, runs one ``~/deactivate`` /
-``~/activate`` cycle, then prints a report (tracking error and settle time per target, solve time, loop rate,
-limit margins) and writes plots. Lockstep simulation by default (deterministic, faster than real time);
-``--realtime`` runs the bridge at wall-clock rate with the controller on its timer; ``--gui`` shows PyBullet.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+The main job: the arm driven through ROS 2 exactly as a user would drive a robot.
+
+Starts ``pybullet_bridge`` and ``orca_controller`` as separate processes (launch-free, private ROS
+domain), sends a sequence of Cartesian targets on ``~/tasks/ee/target_pose``, runs one
+``~/deactivate`` / ``~/activate`` cycle, then prints a report (tracking error and settle time per
+target, solve time, loop rate, limit margins) and writes plots. Lockstep simulation by default
+(deterministic, faster than real time); ``--realtime`` runs the bridge at wall-clock rate with the
+controller on its timer; ``--gui`` shows PyBullet.
+"""
+
 from __future__ import annotations
 
 import argparse
@@ -15,17 +31,23 @@ import tempfile
 import time
 
 import numpy as np
-
 import orca_ros as orca
 
-from .launch_free import Probe, Procs, free_domain_id
+from .launch_free import free_domain_id, Probe, Procs
 
-OFFSETS = [np.array(o) for o in ([0.10, 0.0, 0.0], [0.10, -0.15, 0.05], [0.0, -0.15, -0.10], [0.0, 0.0, 0.0])]
-Q0 = "[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]"
+OFFSETS = [
+    np.array(o)
+    for o in ([0.10, 0.0, 0.0], [0.10, -0.15, 0.05], [0.0, -0.15, -0.10], [0.0, 0.0, 0.0])
+]
+Q0 = '[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]'
 
 
 def _wait_reached(probe, target, tol, timeout_sim):
-    """Simulated time until the end effector stays within tol of target (nan if never)."""
+    """
+    Return the simulated time until the end effector stays within tol of target.
+
+    NaN if never.
+    """
     t_start = probe.sim_time()
     t_in = None
     while probe.sim_time() - t_start < timeout_sim:
@@ -37,29 +59,51 @@ def _wait_reached(probe, target, tol, timeout_sim):
         else:
             t_in = None
         time.sleep(0.01)
-    return float("nan")
+    return float('nan')
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--realtime", action="store_true", help="free-running bridge at wall-clock rate")
-    ap.add_argument("--gui", action="store_true", help="show the PyBullet window")
-    ap.add_argument("--output-dir", default="output")
-    ap.add_argument("--tolerance", type=float, default=1e-3, help="reached when within this distance [m]")
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    ap.add_argument(
+        '--realtime', action='store_true', help='free-running bridge at wall-clock rate'
+    )
+    ap.add_argument('--gui', action='store_true', help='show the PyBullet window')
+    ap.add_argument('--output-dir', default='output')
+    ap.add_argument(
+        '--tolerance', type=float, default=1e-3, help='reached when within this distance [m]'
+    )
     args = ap.parse_args(argv)
     t_wall0 = time.time()
     domain = free_domain_id()
-    procs = Procs(domain, tempfile.mkdtemp(prefix="orca_main_job_"))
-    cfg = orca.share_path("config", "lwr_controller.yaml")
-    mode = "free_running" if args.realtime else "lockstep"
-    procs.start("orca_ros.ros.pybullet_bridge", "-p", f"mode:={mode}", "-p", f"initial_positions:={Q0}",
-                "-p", f"gui:={'true' if args.gui else 'false'}", name="bridge")
-    procs.start("orca_ros.ros.controller_node", "--params-file", cfg,
-                "-p", f"trigger:={'timer' if args.realtime else 'joint_state'}", name="controller")
+    procs = Procs(domain, tempfile.mkdtemp(prefix='orca_main_job_'))
+    cfg = orca.share_path('config', 'lwr_controller.yaml')
+    mode = 'free_running' if args.realtime else 'lockstep'
+    procs.start(
+        'orca_ros.ros.pybullet_bridge',
+        '-p',
+        f'mode:={mode}',
+        '-p',
+        f'initial_positions:={Q0}',
+        '-p',
+        f'gui:={"true" if args.gui else "false"}',
+        name='bridge',
+    )
+    procs.start(
+        'orca_ros.ros.controller_node',
+        '--params-file',
+        cfg,
+        '-p',
+        f'trigger:={"timer" if args.realtime else "joint_state"}',
+        name='controller',
+    )
     probe = Probe(domain)
     rows, path, ok = [], [], True
     try:
-        probe.wait_for(lambda: probe.sim_time() > 1.0, 60, "the controller driving the simulated arm")
+        probe.wait_for(
+            lambda: probe.sim_time() > 1.0, 60, 'the controller driving the simulated arm'
+        )
         start = probe.ee_pose()
         n_states0, wall0 = len(probe.states), time.time()
         targets = []
@@ -67,19 +111,20 @@ def main(argv=None) -> int:
             T = start.copy()
             T[:3, 3] += off
             targets.append(T)
-            probe.send_target("ee", T)
+            probe.send_target('ee', T)
             settle = _wait_reached(probe, T, args.tolerance, 6.0)
             err = np.linalg.norm(probe.ee_pose()[:3, 3] - T[:3, 3])
-            rows.append((f"target {k + 1}", T[:3, 3], err, settle))
-        # one deactivate / activate cycle: everything ramps out (the arm holds with gravity), then back in
+            rows.append((f'target {k + 1}', T[:3, 3], err, settle))
+        # one deactivate / activate cycle: everything ramps out (the arm holds with gravity), then
+        # back in
         from std_srvs.srv import Trigger  # noqa: PLC0415
 
-        probe.call(Trigger, "/orca_controller/deactivate", Trigger.Request())
+        probe.call(Trigger, '/orca_controller/deactivate', Trigger.Request())
         probe.wait_sim(1.5)
-        probe.call(Trigger, "/orca_controller/activate", Trigger.Request())
+        probe.call(Trigger, '/orca_controller/activate', Trigger.Request())
         settle = _wait_reached(probe, targets[-1], args.tolerance, 6.0)
         err = np.linalg.norm(probe.ee_pose()[:3, 3] - targets[-1][:3, 3])
-        rows.append(("after deactivate/activate", targets[-1][:3, 3], err, settle))
+        rows.append(('after deactivate/activate', targets[-1][:3, 3], err, settle))
         loop_rate = (len(probe.states) - n_states0) / (time.time() - wall0)
         time.sleep(0.5)  # one more diagnostics message
         diag = dict(probe.diagnostics)
@@ -87,8 +132,8 @@ def main(argv=None) -> int:
             states = list(probe.states)
             commands = np.array(probe.commands)
     except AssertionError as exc:
-        print(f"main job failed: {exc}")
-        print(procs.log("controller")[-2000:])
+        print(f'main job failed: {exc}')
+        print(procs.log('controller')[-2000:])
         return 1
     finally:
         probe.close()
@@ -101,58 +146,72 @@ def main(argv=None) -> int:
     t = np.array([s[0] for s in states])
     path = np.array([probe.ee_pose(qi)[:3, 3] for qi in q[::20]])
     tau_max = robot.get_joint_torque_limits()
-    print("=== orca_ros main job: 7-DoF arm through ROS 2 (pybullet_bridge + orca_controller, "
-          f"{'real time' if args.realtime else 'lockstep'}) ===")
-    print(f"{'step':<28}{'target [m]':<28}{'final error':>13}{'settle time':>13}")
+    print(
+        '=== orca_ros main job: 7-DoF arm through ROS 2 (pybullet_bridge + orca_controller, '
+        f'{"real time" if args.realtime else "lockstep"}) ==='
+    )
+    print(f'{"step":<28}{"target [m]":<28}{"final error":>13}{"settle time":>13}')
     for name, p, err, settle in rows:
         reached = err < args.tolerance
         ok &= reached
-        print(f"{name:<28}{np.array2string(p, precision=3):<28}{err * 1e3:>10.3f} mm{settle:>11.2f} s"
-              f"{'' if reached else '   NOT REACHED'}")
-    print(f"solve time: median {diag.get('solve_time_median_us', '?')} us, p99 {diag.get('solve_time_p99_us', '?')} us"
-          f" ({diag.get('solver', '?')}); solver status {diag.get('solver_status', '?')}")
-    print(f"loop rate achieved: {loop_rate:.0f} Hz (nominal 1000 Hz{', simulated time runs faster in lockstep' if not args.realtime else ''})")
-    print(f"limit margins: position {np.min(np.minimum(q - qlo, qhi - q)):.3f} rad, velocity "
-          f"{1.5 - np.abs(v).max():.3f} rad/s (limit 1.5), torque {np.min(tau_max - np.abs(commands)):.1f} Nm")
+        print(
+            f'{name:<28}{np.array2string(p, precision=3):<28}{err * 1e3:>10.3f} mm{settle:>11.2f} '
+            's'
+            f'{"" if reached else "   NOT REACHED"}'
+        )
+    print(
+        f'solve time: median {diag.get("solve_time_median_us", "?")} us, p99 '
+        f'{diag.get("solve_time_p99_us", "?")} us'
+        f' ({diag.get("solver", "?")}); solver status {diag.get("solver_status", "?")}'
+    )
+    print(
+        f'loop rate achieved: {loop_rate:.0f} Hz (nominal 1000 '
+        f'Hz{", simulated time runs faster in lockstep" if not args.realtime else ""})'
+    )
+    print(
+        f'limit margins: position {np.min(np.minimum(q - qlo, qhi - q)):.3f} rad, velocity '
+        f'{1.5 - np.abs(v).max():.3f} rad/s (limit 1.5), torque '
+        f'{np.min(tau_max - np.abs(commands)):.1f} Nm'
+    )
     os.makedirs(args.output_dir, exist_ok=True)
     import matplotlib  # noqa: PLC0415
 
-    matplotlib.use("Agg")
+    matplotlib.use('Agg')
     import matplotlib.pyplot as plt  # noqa: PLC0415
 
     fig, ax = plt.subplots(figsize=(9, 5))
     for j in range(commands.shape[1]):
-        ax.plot(commands[:, j], lw=0.8, label=f"joint_{j}")
-    ax.set_xlabel("control cycle")
-    ax.set_ylabel("commanded torque [Nm]")
+        ax.plot(commands[:, j], lw=0.8, label=f'joint_{j}')
+    ax.set_xlabel('control cycle')
+    ax.set_ylabel('commanded torque [Nm]')
     ax.legend(ncol=4, fontsize=8)
     ax.grid(True)
     fig.tight_layout()
-    p1 = os.path.join(args.output_dir, "main_job_torques.png")
+    p1 = os.path.join(args.output_dir, 'main_job_torques.png')
     fig.savefig(p1, dpi=100)
     plt.close(fig)
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.5))
     tg = np.array([r[1] for r in rows])
-    axes[0].plot(path[:, 0], path[:, 1], lw=1, label="end effector")
-    axes[0].plot(tg[:, 0], tg[:, 1], "rx", ms=9, label="targets")
-    axes[0].set_xlabel("x [m]")
-    axes[0].set_ylabel("y [m]")
-    axes[0].axis("equal")
+    axes[0].plot(path[:, 0], path[:, 1], lw=1, label='end effector')
+    axes[0].plot(tg[:, 0], tg[:, 1], 'rx', ms=9, label='targets')
+    axes[0].set_xlabel('x [m]')
+    axes[0].set_ylabel('y [m]')
+    axes[0].axis('equal')
     axes[0].legend()
     axes[1].plot(t[::20] - t[0], path[:, 2], lw=1)
-    axes[1].set_xlabel("simulated time [s]")
-    axes[1].set_ylabel("z [m]")
+    axes[1].set_xlabel('simulated time [s]')
+    axes[1].set_ylabel('z [m]')
     for ax in axes:
         ax.grid(True)
     fig.tight_layout()
-    p2 = os.path.join(args.output_dir, "main_job_path.png")
+    p2 = os.path.join(args.output_dir, 'main_job_path.png')
     fig.savefig(p2, dpi=100)
     plt.close(fig)
-    print(f"plots: {p1}, {p2}")
-    print(f"wall time {time.time() - t_wall0:.1f} s")
-    print("RESULT:", "every target reached" if ok else "FAILED")
+    print(f'plots: {p1}, {p2}')
+    print(f'wall time {time.time() - t_wall0:.1f} s')
+    print('RESULT:', 'every target reached' if ok else 'FAILED')
     return 0 if ok else 1
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

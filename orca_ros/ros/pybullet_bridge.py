@@ -1,104 +1,148 @@
-"""PyBullet bridge node: the simulated robot behind ros2_control-style topics.
-
-Publishes ``joint_states`` (name, position, velocity, effort), ``odom`` (nav_msgs/Odometry, floating base
-only, twist in the child frame as the message defines) and ``/clock`` (simulated time); takes effort
-commands on ``/<controller_name>/commands`` (std_msgs/Float64MultiArray in the ``joints`` order, reliable QoS,
-as ros2_control's forward effort controller), so a real robot replaces this node by a parameter change.
-
-Modes: ``free_running`` (the simulation advances at wall-clock rate ``rate``) and ``lockstep`` (each command
-advances the simulation by ``control_period`` and answers with the new state: deterministic runs).
-Services: ``~/reset``, ``~/pause``, ``~/unpause`` (std_srvs/Trigger).
-
-Watchdog (free running): without a valid command for ``command_timeout`` [0.02 s of simulated time] the bridge
-holds the robot like a drive would (the last command fades over ``hold_ramp`` [0.05 s] into gravity + damping
-``hold_damping`` [10 /s], see :class:`orca_ros.safety.CommandWatchdog`), says so once, and applies the next
-command as soon as it arrives. Before the first command it holds too.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+PyBullet bridge node: the simulated robot behind ros2_control-style topics.
+
+Publishes ``joint_states`` (name, position, velocity, effort), ``odom`` (nav_msgs/Odometry,
+floating base only, twist in the child frame as the message defines) and ``/clock`` (simulated
+time); takes effort commands on ``/<controller_name>/commands`` (std_msgs/Float64MultiArray in the
+``joints`` order, reliable QoS, as ros2_control's forward effort controller), so a real robot
+replaces this node by a parameter change.
+
+Modes: ``free_running`` (the simulation advances at wall-clock rate ``rate``) and ``lockstep``
+(each command advances the simulation by ``control_period`` and answers with the new state:
+deterministic runs). Services: ``~/reset``, ``~/pause``, ``~/unpause`` (std_srvs/Trigger).
+
+Watchdog (free running): without a valid command for ``command_timeout`` [0.02 s of simulated time]
+the bridge holds the robot like a drive would (the last command fades over ``hold_ramp`` [0.05 s]
+into gravity + damping ``hold_damping`` [10 /s], see :class:`orca_ros.safety.CommandWatchdog`),
+says so once, and applies the next command as soon as it arrives. Before the first command it holds
+too.
+"""
+
 from __future__ import annotations
 
 import sys
 
-import numpy as np
 from nav_msgs.msg import Odometry
+import numpy as np
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
 from std_srvs.srv import Trigger
 
+from .common import COMMAND_QOS, param, run_node, sec_to_stamp, STATE_QOS
+from .guarded_node import GuardedNode
 from ..configuration import resolve_urdf_path
 from ..math.rotations import quaternion_xyzw
 from ..robot import RobotModel
 from ..safety import CommandWatchdog
 from ..sim import SimServer
-from .common import COMMAND_QOS, STATE_QOS, param, run_node, sec_to_stamp
-from .guarded_node import GuardedNode
 
 
 class PyBulletBridge(GuardedNode):
     def __init__(self, **kwargs):
-        super().__init__("pybullet_bridge", automatically_declare_parameters_from_overrides=True, **kwargs)
-        urdf = param(self, "urdf_path", "lwr.urdf")
-        description = param(self, "robot_description", "")
-        self.floating = bool(param(self, "floating_base", False))
-        self.mode = str(param(self, "mode", "free_running"))
-        if self.mode not in ("free_running", "lockstep"):
+        super().__init__(
+            'pybullet_bridge', automatically_declare_parameters_from_overrides=True, **kwargs
+        )
+        urdf = param(self, 'urdf_path', 'lwr.urdf')
+        description = param(self, 'robot_description', '')
+        self.floating = bool(param(self, 'floating_base', False))
+        self.mode = str(param(self, 'mode', 'free_running'))
+        if self.mode not in ('free_running', 'lockstep'):
             raise ValueError(f"mode must be free_running or lockstep, got '{self.mode}'")
-        self.time_step = float(param(self, "time_step", 0.001))
-        self.control_period = float(param(self, "control_period", 0.001))
-        self.rate = float(param(self, "rate", 1000.0))
-        self.hw_gravity = bool(param(self, "gravity_compensation", False))
-        self.publish_clock = bool(param(self, "publish_clock", self.mode == "lockstep"))
-        self.stop_time = float(param(self, "stop_time", 0.0))  # > 0: simulated time at which stepping stops
-        controller_name = str(param(self, "controller_name", "effort_controller"))
+        self.time_step = float(param(self, 'time_step', 0.001))
+        self.control_period = float(param(self, 'control_period', 0.001))
+        self.rate = float(param(self, 'rate', 1000.0))
+        self.hw_gravity = bool(param(self, 'gravity_compensation', False))
+        self.publish_clock = bool(param(self, 'publish_clock', self.mode == 'lockstep'))
+        self.stop_time = float(
+            param(self, 'stop_time', 0.0)
+        )  # > 0: simulated time at which stepping stops
+        controller_name = str(param(self, 'controller_name', 'effort_controller'))
         if description:
             import tempfile  # noqa: PLC0415
 
-            fh = tempfile.NamedTemporaryFile("w", suffix=".urdf", delete=False)
+            fh = tempfile.NamedTemporaryFile('w', suffix='.urdf', delete=False)
             fh.write(description)
             fh.close()
             urdf = fh.name
         else:
             urdf = resolve_urdf_path(urdf)
-        self.server = SimServer(gui=bool(param(self, "gui", False)), time_step=self.time_step,
-                                ground_plane=bool(param(self, "ground_plane", True)))
+        self.server = SimServer(
+            gui=bool(param(self, 'gui', False)),
+            time_step=self.time_step,
+            ground_plane=bool(param(self, 'ground_plane', True)),
+        )
         self.model = self.server.insert_model_from_urdf_file(
-            urdf, param(self, "base_position", [0.0, 0.0, 0.0]), param(self, "base_orientation", [0.0, 0.0, 0.0, 1.0]),
-            fixed_base=not self.floating)
-        joints = list(param(self, "joints", self.model.get_joint_names()) or self.model.get_joint_names())
+            urdf,
+            param(self, 'base_position', [0.0, 0.0, 0.0]),
+            param(self, 'base_orientation', [0.0, 0.0, 0.0, 1.0]),
+            fixed_base=not self.floating,
+        )
+        joints = list(
+            param(self, 'joints', self.model.get_joint_names()) or self.model.get_joint_names()
+        )
         self.joints = joints
-        self.initial = np.array(param(self, "initial_positions", [0.0] * len(joints)) or [0.0] * len(joints),
-                                dtype=float)
+        self.initial = np.array(
+            param(self, 'initial_positions', [0.0] * len(joints)) or [0.0] * len(joints),
+            dtype=float,
+        )
         if self.initial.size != len(joints):
-            raise ValueError(f"initial_positions needs {len(joints)} values")
+            raise ValueError(f'initial_positions needs {len(joints)} values')
         self.model.set_model_configuration(joints, self.initial)
         self._order = np.array([self.model.get_joint_names().index(n) for n in joints])
-        self.effort_limit = np.array([e if e > 0 else np.inf for e in
-                                      np.array(self.model._effort)[self._order]])
-        # the hardware's own model (Pinocchio, same URDF): emulated gravity compensation and the watchdog's hold
+        self.effort_limit = np.array(
+            [e if e > 0 else np.inf for e in np.array(self.model._effort)[self._order]]
+        )
+        # the hardware's own model (Pinocchio, same URDF): emulated gravity compensation and the
+        # watchdog's hold
         self.robot_model = RobotModel()
         self.robot_model.load_model_from_file(urdf, self.floating)
         sim_names = self.model.get_joint_names()
-        self._sim_of_model = np.array([sim_names.index(n) for n in self.robot_model.get_joint_names()], dtype=int)
-        self.command_timeout = float(param(self, "command_timeout", 0.02))
+        self._sim_of_model = np.array(
+            [sim_names.index(n) for n in self.robot_model.get_joint_names()], dtype=int
+        )
+        self.command_timeout = float(param(self, 'command_timeout', 0.02))
         self.watchdog = None
-        if self.mode == "free_running":  # lockstep: the simulation only advances on commands
-            self.watchdog = CommandWatchdog(self.robot_model, joints, self.command_timeout, self.hw_gravity,
-                                            float(param(self, "hold_damping", 10.0)),
-                                            float(param(self, "hold_ramp", 0.05)))
+        if self.mode == 'free_running':  # lockstep: the simulation only advances on commands
+            self.watchdog = CommandWatchdog(
+                self.robot_model,
+                joints,
+                self.command_timeout,
+                self.hw_gravity,
+                float(param(self, 'hold_damping', 10.0)),
+                float(param(self, 'hold_ramp', 0.05)),
+            )
         self.paused = False
         self._cmd = np.zeros(len(joints))
         self._last_cmd_time = None
 
-        self.pub_js = self.create_publisher(JointState, "joint_states", STATE_QOS)
-        self.pub_odom = self.create_publisher(Odometry, "odom", STATE_QOS) if self.floating else None
-        self.pub_clock = self.create_publisher(Clock, "/clock", 10) if self.publish_clock else None
-        self.create_subscription(Float64MultiArray, f"/{controller_name}/commands", self._on_command, COMMAND_QOS)
-        self.create_service(Trigger, "~/reset", self._on_reset)
-        self.create_service(Trigger, "~/pause", self._on_pause)
-        self.create_service(Trigger, "~/unpause", self._on_unpause)
+        self.pub_js = self.create_publisher(JointState, 'joint_states', STATE_QOS)
+        self.pub_odom = (
+            self.create_publisher(Odometry, 'odom', STATE_QOS) if self.floating else None
+        )
+        self.pub_clock = self.create_publisher(Clock, '/clock', 10) if self.publish_clock else None
+        self.create_subscription(
+            Float64MultiArray, f'/{controller_name}/commands', self._on_command, COMMAND_QOS
+        )
+        self.create_service(Trigger, '~/reset', self._on_reset)
+        self.create_service(Trigger, '~/pause', self._on_pause)
+        self.create_service(Trigger, '~/unpause', self._on_unpause)
         self._js = JointState()
         self._js.name = list(joints)
-        if self.mode == "free_running":
+        if self.mode == 'free_running':
             self.steps_per_tick = max(1, int(round(1.0 / (self.rate * self.time_step))))
             self.create_timer(1.0 / self.rate, self._tick)
         else:
@@ -106,9 +150,13 @@ class PyBulletBridge(GuardedNode):
             # until commands flow, keep announcing the state (late subscribers, restarts)
             self.create_timer(0.05, self._idle_publish)
         self.get_logger().info(
-            f"PyBullet bridge: {len(joints)} joints, mode {self.mode}, {self.steps_per_tick} step(s) of "
-            f"{self.time_step * 1e3:.2f} ms per {'command' if self.mode == 'lockstep' else 'tick'}, commands on "
-            f"/{controller_name}/commands{', hardware gravity compensation' if self.hw_gravity else ''}")
+            f'PyBullet bridge: {len(joints)} joints, mode {self.mode}, {self.steps_per_tick} '
+            'step(s) of '
+            f'{self.time_step * 1e3:.2f} ms per '
+            f'{"command" if self.mode == "lockstep" else "tick"}, commands on '
+            f'/{controller_name}/commands'
+            f'{", hardware gravity compensation" if self.hw_gravity else ""}'
+        )
         self._publish_state()
 
     # -------------------------------------------------------------- commands and stepping
@@ -116,20 +164,27 @@ class PyBulletBridge(GuardedNode):
         cmd = np.asarray(msg.data, dtype=float)
         if cmd.size != len(self.joints) or not np.all(np.isfinite(cmd)):
             if cmd.size != len(self.joints):
-                self.say("error", "command:size", f"rejected effort command ({cmd.size} values for "
-                         f"{len(self.joints)} joints); keeping the last valid command")
+                self.say(
+                    'error',
+                    'command:size',
+                    f'rejected effort command ({cmd.size} values for '
+                    f'{len(self.joints)} joints); keeping the last valid command',
+                )
             else:
-                self.say("error", "command:nan", "rejected effort command (non-finite values); keeping the last "
-                         "valid command")
-            if self.mode == "lockstep":
+                self.say(
+                    'error',
+                    'command:nan',
+                    'rejected effort command (non-finite values); keeping the last valid command',
+                )
+            if self.mode == 'lockstep':
                 self._advance()  # the controller waits for a state: keep the loop alive
             return
         np.clip(cmd, -self.effort_limit, self.effort_limit, out=cmd)
         self._cmd = cmd
         self._last_cmd_time = self.get_clock().now()
         if self.watchdog is not None and self.watchdog.on_command(self.server.get_time(), cmd):
-            self.say("info", "watchdog:resume", "effort commands resumed: hold released")
-        if self.mode == "lockstep":
+            self.say('info', 'watchdog:resume', 'effort commands resumed: hold released')
+        if self.mode == 'lockstep':
             self._advance()
 
     def _advance(self) -> None:
@@ -143,13 +198,20 @@ class PyBulletBridge(GuardedNode):
                 if self.hw_gravity:
                     self._update_gravity()
                 self.server.step()
-        elif self.mode == "lockstep":
-            return  # paused: the idle announcements keep the controller informed (answering each command with
-            # the same state would make the controller, which repeats its command for a repeated state, ping-pong)
+        elif self.mode == 'lockstep':
+            # paused: the idle announcements keep the controller informed (answering each command
+            # with
+            return
+            # the same state would make the controller, which repeats its command for a repeated
+            # state, ping-pong)
         self._publish_state()
 
     def _watched_command(self) -> np.ndarray:
-        """The last command, or the hold once no command came for ``command_timeout`` (simulated) seconds."""
+        """
+        Return the last command.
+
+        Or the hold once no command came for ``command_timeout`` (simulated) seconds.
+        """
         wd = self.watchdog
         if wd is None:
             return self._cmd
@@ -158,9 +220,14 @@ class PyBulletBridge(GuardedNode):
             return self._cmd
         if not wd.holding:
             silence = wd.silence(t)
-            self.say("warning", "watchdog:hold", "no effort command yet: holding (gravity + damping)" if silence is None
-                     else f"no effort command for {silence * 1e3:.0f} ms (command_timeout "
-                          f"{self.command_timeout * 1e3:.0f} ms): holding (gravity + damping)")
+            self.say(
+                'warning',
+                'watchdog:hold',
+                'no effort command yet: holding (gravity + damping)'
+                if silence is None
+                else f'no effort command for {silence * 1e3:.0f} ms (command_timeout '
+                f'{self.command_timeout * 1e3:.0f} ms): holding (gravity + damping)',
+            )
         q, v = self._model_state()
         return wd.hold(t, q, v)
 
@@ -170,8 +237,13 @@ class PyBulletBridge(GuardedNode):
         q = self.model.get_joint_positions()[self._sim_of_model]
         v = self.model.get_joint_velocities()[self._sim_of_model]
         if self.floating:
-            rm.set_robot_state(self.model.get_world_to_base_transform(), q, self.model.get_base_velocity(), v,
-                               self.model.get_gravity())
+            rm.set_robot_state(
+                self.model.get_world_to_base_transform(),
+                q,
+                self.model.get_base_velocity(),
+                v,
+                self.model.get_gravity(),
+            )
         else:
             rm.set_robot_state(q, v)
         return q, v
@@ -179,19 +251,24 @@ class PyBulletBridge(GuardedNode):
     def _update_gravity(self) -> None:
         self._model_state()
         g = np.zeros(len(self._sim_of_model))
-        g[self._sim_of_model] = self.robot_model.get_joint_gravity_torques()  # model order -> simulator order
+        g[self._sim_of_model] = (
+            self.robot_model.get_joint_gravity_torques()
+        )  # model order -> simulator order
         self.model.set_joint_gravity_torques(g)
 
     def _tick(self) -> None:
         self._advance()
 
     def _idle_publish(self) -> None:
-        if self._last_cmd_time is None or (self.get_clock().now() - self._last_cmd_time).nanoseconds > 2e8:
+        if (
+            self._last_cmd_time is None
+            or (self.get_clock().now() - self._last_cmd_time).nanoseconds > 2e8
+        ):
             self._publish_state()
 
     def _publish_state(self) -> None:
         js = self._js
-        if self.mode == "lockstep":
+        if self.mode == 'lockstep':
             sec_to_stamp(self.server.get_time(), js.header.stamp)
         else:
             js.header.stamp = self.get_clock().now().to_msg()
@@ -213,16 +290,22 @@ class PyBulletBridge(GuardedNode):
         R = T[:3, :3]
         m = Odometry()
         m.header.stamp = stamp
-        m.header.frame_id = "world"
-        m.child_frame_id = "base_link"
+        m.header.frame_id = 'world'
+        m.child_frame_id = 'base_link'
         p = m.pose.pose
         p.position.x, p.position.y, p.position.z = (float(v) for v in T[:3, 3])
-        x, y, z, w = (float(c) for c in quaternion_xyzw(R))  # (pin.Quaternion(R) leaks: see quaternion_xyzw)
+        x, y, z, w = (
+            float(c) for c in quaternion_xyzw(R)
+        )  # (pin.Quaternion(R) leaks: see quaternion_xyzw)
         p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w = x, y, z, w
         # nav_msgs/Odometry: the twist is expressed in child_frame_id
         lin, ang = R.T @ twist[:3], R.T @ twist[3:]
-        m.twist.twist.linear.x, m.twist.twist.linear.y, m.twist.twist.linear.z = (float(v) for v in lin)
-        m.twist.twist.angular.x, m.twist.twist.angular.y, m.twist.twist.angular.z = (float(v) for v in ang)
+        m.twist.twist.linear.x, m.twist.twist.linear.y, m.twist.twist.linear.z = (
+            float(v) for v in lin
+        )
+        m.twist.twist.angular.x, m.twist.twist.angular.y, m.twist.twist.angular.z = (
+            float(v) for v in ang
+        )
         self.pub_odom.publish(m)
 
     # -------------------------------------------------------------- services
@@ -230,20 +313,20 @@ class PyBulletBridge(GuardedNode):
         self._cmd[:] = 0.0
         self.model.set_model_configuration(self.joints, self.initial)
         self._publish_state()
-        res.success, res.message = True, "joints reset to initial_positions, command zeroed"
+        res.success, res.message = True, 'joints reset to initial_positions, command zeroed'
         return res
 
     def _on_pause(self, req, res):
         self.paused = True
-        res.success, res.message = True, "simulation paused"
+        res.success, res.message = True, 'simulation paused'
         return res
 
     def _on_unpause(self, req, res):
         self.paused = False
-        if self.mode == "lockstep":
+        if self.mode == 'lockstep':
             # one step with the last command starts the exchange again
             self._advance()
-        res.success, res.message = True, "simulation running"
+        res.success, res.message = True, 'simulation running'
         return res
 
     def destroy_node(self):
@@ -255,5 +338,5 @@ def main(args=None) -> int:
     return run_node(PyBulletBridge, args, on_shutdown=None)
 
 
-if __name__ == "__main__":
+if __name__ == '__main__':
     sys.exit(main())

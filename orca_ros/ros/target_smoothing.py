@@ -1,13 +1,29 @@
-"""New targets become jerk-limited trajectories (mixed into the controller node).
-
-Per task, parameters under ``tasks.<name>.trajectory``: ``enabled`` [true]; Cartesian tasks ``max_velocity``
-[0.25 m/s, 1.0 rad/s], ``max_acceleration`` [1.0 m/s^2, 3.0 rad/s^2], ``max_jerk`` [5 m/s^3, 15 rad/s^3]
-([linear, angular]); joint tasks ``max_velocity`` [half the URDF velocity limits], ``max_acceleration``
-[2 rad/s^2], ``max_jerk`` [20 rad/s^3] (one value or one per joint). A target on ``target_pose`` or a joint
-``target`` without velocities starts a trajectory from the current reference (or, when none runs, from the
-measured state); ``target_point`` and joint targets with velocities are trajectory points already and go to the
-servo as they are. Holding, resetting or expiring a target stops the trajectory.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+New targets become jerk-limited trajectories (mixed into the controller node).
+
+Per task, parameters under ``tasks.<name>.trajectory``: ``enabled`` [true]; Cartesian tasks
+``max_velocity`` [0.25 m/s, 1.0 rad/s], ``max_acceleration`` [1.0 m/s^2, 3.0 rad/s^2], ``max_jerk``
+[5 m/s^3, 15 rad/s^3] ([linear, angular]); joint tasks ``max_velocity`` [half the URDF velocity
+limits], ``max_acceleration`` [2 rad/s^2], ``max_jerk`` [20 rad/s^3] (one value or one per joint).
+A target on ``target_pose`` or a joint ``target`` without velocities starts a trajectory from the
+current reference (or, when none runs, from the measured state); ``target_point`` and joint targets
+with velocities are trajectory points already and go to the servo as they are. Holding, resetting
+or expiring a target stops the trajectory.
+"""
+
 from __future__ import annotations
 
 import numpy as np
@@ -15,7 +31,11 @@ import numpy as np
 from ..servo.target_trajectory import CartesianTrajectory, JointTrajectory
 from ..task import CartesianTask, JointAccelerationTask
 
-CARTESIAN_DEFAULTS = {"max_velocity": [0.25, 1.0], "max_acceleration": [1.0, 3.0], "max_jerk": [5.0, 15.0]}
+CARTESIAN_DEFAULTS = {
+    'max_velocity': [0.25, 1.0],
+    'max_acceleration': [1.0, 3.0],
+    'max_jerk': [5.0, 15.0],
+}
 
 
 class TargetSmoothing:
@@ -23,8 +43,8 @@ class TargetSmoothing:
         self.trajectories: dict = {}
         self._running: set[str] = set()
         for name, task in self.setup.tasks.items():
-            cfg = dict((task_config.get(name) or {}).get("trajectory") or {})
-            if not cfg.pop("enabled", True):
+            cfg = dict((task_config.get(name) or {}).get('trajectory') or {})
+            if not cfg.pop('enabled', True):
                 continue
             if isinstance(task, CartesianTask):
                 lim = {k: cfg.get(k, d) for k, d in CARTESIAN_DEFAULTS.items()}
@@ -32,12 +52,21 @@ class TargetSmoothing:
             elif isinstance(task, JointAccelerationTask):
                 vel = self.robot.get_joint_velocity_limits()
                 vel = np.where(np.isfinite(vel) & (vel > 0), 0.5 * vel, 1.0)
-                self.trajectories[name] = JointTrajectory(self.n, cfg.get("max_velocity", vel),
-                                                          cfg.get("max_acceleration", 2.0), cfg.get("max_jerk", 20.0))
+                self.trajectories[name] = JointTrajectory(
+                    self.n,
+                    cfg.get('max_velocity', vel),
+                    cfg.get('max_acceleration', 2.0),
+                    cfg.get('max_jerk', 20.0),
+                )
 
     def smooth_target(self, name: str, target) -> bool:
-        """Start a trajectory to ``target`` (4x4 pose in the base frame, or joint positions); False when this
-        task takes targets as steps. Starts from the running reference, else from the measured state."""
+        """
+        Start a trajectory to ``target`` (4x4 pose in the base frame, or joint positions).
+
+        False when this task takes targets as steps.
+
+        Starts from the running reference, else from the measured state.
+        """
         gen = self.trajectories.get(name)
         if gen is None:
             return False
@@ -46,7 +75,11 @@ class TargetSmoothing:
             start = gen.sample(t)
         elif isinstance(gen, CartesianTrajectory):
             servo = self.setup.tasks[name].servo_controller()
-            start = servo.get_current_cartesian_pose(), servo.get_current_cartesian_velocity(), np.zeros(6)
+            start = (
+                servo.get_current_cartesian_pose(),
+                servo.get_current_cartesian_velocity(),
+                np.zeros(6),
+            )
         else:
             start = self._q.copy(), self._v.copy(), np.zeros(self.n)
         gen.start(t, *start, target)
@@ -57,7 +90,11 @@ class TargetSmoothing:
         self._running.discard(name)
 
     def advance_trajectories(self, t: float) -> None:
-        """Before each update: every running trajectory hands its sample at t to its task's servo."""
+        """
+        Before each update.
+
+        Every running trajectory hands its sample at t to its task's servo.
+        """
         if not self._running:
             return
         for name in list(self._running):

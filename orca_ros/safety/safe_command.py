@@ -1,19 +1,38 @@
-"""The command sent when the controller cannot be trusted (stale state, QP failure, hold, shutdown).
-
-hold(q, v) = g(q) - M(q) k_d v   (g omitted when the drives compensate gravity themselves), clipped to the
-torque limits. The damping is an acceleration gain (1/s) weighted by the mass matrix, so every joint gets the
-same damping time constant: a plain Nm s/rad gain strong enough for the shoulder makes a light wrist joint
-unstable at a 1 ms control period (measured: the last joint of the arm spun). When trouble starts, the last good command fades linearly into the hold command over ``ramp``
-seconds, so the torques never step. For a floating-base robot g(q) is the actuated part of the free robot's
-gravity torques (what holds its limbs, not what would keep it standing: no safe command can do that alone).
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+The command sent when the controller cannot be trusted (stale state, QP failure, hold, shutdown).
+
+hold(q, v) = g(q) - M(q) k_d v   (g omitted when the drives compensate gravity themselves), clipped
+to the torque limits. The damping is an acceleration gain (1/s) weighted by the mass matrix, so
+every joint gets the same damping time constant: a plain Nm s/rad gain strong enough for the
+shoulder makes a light wrist joint unstable at a 1 ms control period (measured: the last joint of
+the arm spun). When trouble starts, the last good command fades linearly into the hold command over
+``ramp`` seconds, so the torques never step. For a floating-base robot g(q) is the actuated part of
+the free robot's gravity torques (what holds its limbs, not what would keep it standing: no safe
+command can do that alone).
+"""
+
 from __future__ import annotations
 
 import numpy as np
 
 
 class SafeCommand:
-    def __init__(self, robot, gravity_by_hardware: bool = False, damping: float = 10.0, ramp: float = 0.2):
+    def __init__(
+        self, robot, gravity_by_hardware: bool = False, damping: float = 10.0, ramp: float = 0.2
+    ):
         self.robot = robot
         self.gravity_by_hardware = bool(gravity_by_hardware)
         self.damping = float(damping)
@@ -27,18 +46,26 @@ class SafeCommand:
     def hold(self, q: np.ndarray, v: np.ndarray | None) -> np.ndarray:
         n = self.robot.get_nr_of_degrees_of_freedom()
         vs = np.zeros(n) if v is None else v
-        if self.robot.is_floating_base():  # keep the last base pose; a floating base gets no support torque
+        if (
+            self.robot.is_floating_base()
+        ):  # keep the last base pose; a floating base gets no support torque
             r = self.robot
             r.set_robot_state(r.get_world_to_base_transform(), q, np.zeros(6), vs, r.get_gravity())
         else:
             self.robot.set_robot_state(q, vs)
-        tau = np.zeros(n) if self.gravity_by_hardware else self.robot.get_joint_gravity_torques().copy()
+        tau = (
+            np.zeros(n)
+            if self.gravity_by_hardware
+            else self.robot.get_joint_gravity_torques().copy()
+        )
         if v is not None:
             nb = self.robot.get_configuration_space_dimension() - n
             tau -= self.damping * (self.robot.get_mass_matrix()[nb:, nb:] @ v)
         return np.clip(tau, -self.limit, self.limit)
 
-    def compute(self, t: float, last_command: np.ndarray, q: np.ndarray, v: np.ndarray | None) -> np.ndarray:
+    def compute(
+        self, t: float, last_command: np.ndarray, q: np.ndarray, v: np.ndarray | None
+    ) -> np.ndarray:
         """Command at time t; the fade starts at the first call after :meth:`reset`."""
         if not self.active:
             self.active = True

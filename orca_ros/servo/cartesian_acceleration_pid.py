@@ -1,20 +1,36 @@
-"""Cartesian servo: turns a desired pose/twist/acceleration into a desired frame acceleration.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Cartesian servo: turns a desired pose/twist/acceleration into a desired frame acceleration.
 
     a_des = a_ref + P * e_pose + I * integral(e_pose) + D * (v_ref - v)
 
-with e_pose = [p_ref - p, log(R_ref R^T)], everything in the robot's base frame (linear part first).
+with e_pose = [p_ref - p, log(R_ref R^T)], everything in the robot's base frame (linear part
+first).
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
 
-from ..math.rotations import is_rotation
 from .pid_controller import PIDController
+from ..math.rotations import is_rotation
 
 
 class CartesianAccelerationPID:
-    def __init__(self, name: str = "cartesian_servo"):
+    def __init__(self, name: str = 'cartesian_servo'):
         self.name = name
         self._pid = PIDController(6)
         self._robot = None
@@ -51,15 +67,19 @@ class CartesianAccelerationPID:
         """Desired 4x4 pose and 6-vectors twist/acceleration ([linear; angular], base frame)."""
         T = np.asarray(pose, dtype=float)
         if T.shape != (4, 4) or not np.all(np.isfinite(T)):
-            raise ValueError(f"desired pose must be a finite 4x4 matrix, got shape {T.shape}")
+            raise ValueError(f'desired pose must be a finite 4x4 matrix, got shape {T.shape}')
         R = T[:3, :3]
         if not is_rotation(R):
-            raise ValueError("desired pose: rotation block is not a rotation matrix")
+            raise ValueError('desired pose: rotation block is not a rotation matrix')
         v = np.zeros(6) if velocity is None else np.asarray(velocity, dtype=float).reshape(-1)
-        a = np.zeros(6) if acceleration is None else np.asarray(acceleration, dtype=float).reshape(-1)
-        for what, x in (("velocity", v), ("acceleration", a)):
+        a = (
+            np.zeros(6)
+            if acceleration is None
+            else np.asarray(acceleration, dtype=float).reshape(-1)
+        )
+        for what, x in (('velocity', v), ('acceleration', a)):
             if x.shape != (6,) or not np.all(np.isfinite(x)):
-                raise ValueError(f"desired {what} must be a finite 6-vector")
+                raise ValueError(f'desired {what} must be a finite 6-vector')
         self._pose_ref[:] = T
         self._vel_ref[:] = v
         self._acc_ref[:] = a
@@ -79,7 +99,9 @@ class CartesianAccelerationPID:
     # -------------------------------------------------------------- run time
     def _read_state(self):
         if self._robot is None or self._fid is None:
-            raise RuntimeError(f"servo '{self.name}': robot model and control frame must be set first")
+            raise RuntimeError(
+                f"servo '{self.name}': robot model and control frame must be set first"
+            )
         terms = self._robot.frame_terms(self._fid)
         self._pose[:] = terms[0]
         self._vel[:] = terms[2]

@@ -1,17 +1,35 @@
-"""Targets reached along jerk-limited trajectories (Ruckig, the online generator MoveIt 2 uses; no ROS).
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Targets reached along jerk-limited trajectories.
 
-A target handed straight to a PD servo is a step: the first cycle demands kp * distance of acceleration (a 30 cm
-step on the arm: 120 m/s^2, torques at their limits). Instead, a new target starts a time-optimal trajectory
-from the current reference state (position, velocity, acceleration: a target changed mid-motion continues
-smoothly) within velocity, acceleration and jerk limits; each cycle samples it at the controller's clock and
-the servo gets position, velocity and acceleration (feed-forward). After the end the target is held.
+With Ruckig, the online generator MoveIt 2 uses (no ROS here).
+
+A target handed straight to a PD servo is a step: the first cycle demands kp * distance of
+acceleration (a 30 cm step on the arm: 120 m/s^2, torques at their limits). Instead, a new target
+starts a time-optimal trajectory from the current reference state (position, velocity,
+acceleration: a target changed mid-motion continues smoothly) within velocity, acceleration and
+jerk limits; each cycle samples it at the controller's clock and the servo gets position, velocity
+and acceleration (feed-forward). After the end the target is held.
 
 * :class:`JointTrajectory`: N joints, per-joint limits, time-synchronised.
-* :class:`CartesianTrajectory`: the position along x, y, z with limits scaled by the direction of travel (phase
-  synchronised: a straight line at most ``max_velocity`` fast in Euclidean norm from rest), the orientation as
-  one rotation angle about the fixed axis from the start to the target orientation (angular velocity at the
-  start projected on that axis).
+* :class:`CartesianTrajectory`: the position along x, y, z with limits scaled by the direction of
+  travel (phase synchronised: a straight line at most ``max_velocity`` fast in Euclidean norm from
+  rest), the orientation as one rotation angle about the fixed axis from the start to the target
+  orientation (angular velocity at the start projected on that axis).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -24,7 +42,9 @@ def checked_limits(value, n: int, what: str) -> np.ndarray:
     if v.size == 1:
         v = np.full(n, float(v[0]))
     if v.shape != (n,) or not (np.isfinite(v).all() and (v > 0).all()):
-        raise ValueError(f"trajectory {what}: expected 1 or {n} positive finite values, got {value!r}")
+        raise ValueError(
+            f'trajectory {what}: expected 1 or {n} positive finite values, got {value!r}'
+        )
     return v
 
 
@@ -41,13 +61,17 @@ class _Profile:
 
     def plan(self, t0, p, v, a, target, vmax, amax, jmax) -> float:
         inp = self._inp
-        inp.current_position, inp.current_velocity, inp.current_acceleration = list(p), list(v), list(a)
+        inp.current_position, inp.current_velocity, inp.current_acceleration = (
+            list(p),
+            list(v),
+            list(a),
+        )
         inp.target_position = list(target)
         inp.target_velocity = inp.target_acceleration = [0.0] * self.n
         inp.max_velocity, inp.max_acceleration, inp.max_jerk = list(vmax), list(amax), list(jmax)
         res = self._otg.calculate(inp, self._traj)
         if res not in (Result.Working, Result.Finished):
-            raise ValueError(f"no trajectory to this target (Ruckig: {res.name})")
+            raise ValueError(f'no trajectory to this target (Ruckig: {res.name})')
         self.t0 = float(t0)
         return self._traj.duration
 
@@ -66,14 +90,16 @@ class _Profile:
 
 class JointTrajectory:
     def __init__(self, n: int, max_velocity, max_acceleration, max_jerk):
-        self.vmax = checked_limits(max_velocity, n, "max_velocity")
-        self.amax = checked_limits(max_acceleration, n, "max_acceleration")
-        self.jmax = checked_limits(max_jerk, n, "max_jerk")
+        self.vmax = checked_limits(max_velocity, n, 'max_velocity')
+        self.amax = checked_limits(max_acceleration, n, 'max_acceleration')
+        self.jmax = checked_limits(max_jerk, n, 'max_jerk')
         self._p = _Profile(n)
         self.active = False
 
     def start(self, t, position, velocity, acceleration, target) -> float:
-        d = self._p.plan(t, position, velocity, acceleration, target, self.vmax, self.amax, self.jmax)
+        d = self._p.plan(
+            t, position, velocity, acceleration, target, self.vmax, self.amax, self.jmax
+        )
         self.active = True
         return d
 
@@ -88,9 +114,9 @@ class JointTrajectory:
 class CartesianTrajectory:
     def __init__(self, max_velocity, max_acceleration, max_jerk):
         """Limits as [linear, angular] pairs (m/s, rad/s; m/s^2, rad/s^2; m/s^3, rad/s^3)."""
-        self.vmax = checked_limits(max_velocity, 2, "max_velocity [linear, angular]")
-        self.amax = checked_limits(max_acceleration, 2, "max_acceleration [linear, angular]")
-        self.jmax = checked_limits(max_jerk, 2, "max_jerk [linear, angular]")
+        self.vmax = checked_limits(max_velocity, 2, 'max_velocity [linear, angular]')
+        self.amax = checked_limits(max_acceleration, 2, 'max_acceleration [linear, angular]')
+        self.jmax = checked_limits(max_jerk, 2, 'max_jerk [linear, angular]')
         self._lin = _Profile(3, Synchronization.Phase)
         self._ang = _Profile(1)
         self._R0 = np.eye(3)
@@ -99,23 +125,44 @@ class CartesianTrajectory:
         self._out = np.eye(4)
 
     def start(self, t, pose, twist, acceleration, target) -> float:
-        """From ``pose`` (4x4), ``twist`` and ``acceleration`` ([linear; angular], base frame) to ``target``."""
+        """
+        From ``pose`` (4x4).
+
+        ``twist`` and ``acceleration`` ([linear, angular], base frame) to ``target``.
+        """
         pose, target = np.asarray(pose, dtype=float), np.asarray(target, dtype=float)
         twist, acceleration = np.asarray(twist, dtype=float), np.asarray(acceleration, dtype=float)
         d = target[:3, 3] - pose[:3, 3]
         dist = float(np.linalg.norm(d))
-        # per-axis limits in proportion to the direction: from rest, a straight line within the norm limits
+        # per-axis limits in proportion to the direction: from rest, a straight line within the
+        # norm limits
         share = np.abs(d) / dist if dist > 1e-9 else np.full(3, 1.0 / np.sqrt(3.0))
         share = np.maximum(share, 1e-3)
-        lin = self._lin.plan(t, pose[:3, 3], twist[:3], acceleration[:3], target[:3, 3],
-                             self.vmax[0] * share, self.amax[0] * share, self.jmax[0] * share)
+        lin = self._lin.plan(
+            t,
+            pose[:3, 3],
+            twist[:3],
+            acceleration[:3],
+            target[:3, 3],
+            self.vmax[0] * share,
+            self.amax[0] * share,
+            self.jmax[0] * share,
+        )
         self._R0 = pose[:3, :3].copy()
         rotvec = pin.log3(self._R0.T @ target[:3, :3])  # in the start frame
         angle = float(np.linalg.norm(rotvec))
         self._axis = rotvec / angle if angle > 1e-12 else np.array([0.0, 0.0, 1.0])
         axis_base = self._R0 @ self._axis
-        ang = self._ang.plan(t, [0.0], [float(axis_base @ twist[3:])], [float(axis_base @ acceleration[3:])],
-                             [angle], self.vmax[1:], self.amax[1:], self.jmax[1:])
+        ang = self._ang.plan(
+            t,
+            [0.0],
+            [float(axis_base @ twist[3:])],
+            [float(axis_base @ acceleration[3:])],
+            [angle],
+            self.vmax[1:],
+            self.amax[1:],
+            self.jmax[1:],
+        )
         self.active = True
         return max(lin, ang)
 
@@ -127,7 +174,11 @@ class CartesianTrajectory:
         out[:3, :3] = self._R0 @ pin.exp3(self._axis * float(th[0]))
         out[:3, 3] = p
         w = self._R0 @ self._axis
-        return out.copy(), np.concatenate((v, w * float(thd[0]))), np.concatenate((a, w * float(thdd[0])))
+        return (
+            out.copy(),
+            np.concatenate((v, w * float(thd[0]))),
+            np.concatenate((a, w * float(thdd[0]))),
+        )
 
     def finished(self, t: float) -> bool:
         return self._lin.done(t) and self._ang.done(t)

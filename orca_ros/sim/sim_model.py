@@ -1,14 +1,32 @@
-"""One robot in the PyBullet world, with the API of the reference's Gazebo model.
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+One robot in the PyBullet world, with the API of the reference's Gazebo model.
 
 PyBullet traps handled here:
-* every joint starts with a velocity motor holding it still: they are switched off (zero force) so that
-  torque control works;
+* every joint starts with a velocity motor holding it still: they are switched off (zero force) so
+  that torque control works;
 * torque commands are forgotten after each step: the command is re-applied before every step;
-* the "applied" torque PyBullet reports in torque mode is zero: the measured effort is the command applied;
-* base position/velocity are those of the base's centre of mass: they are moved to the URDF link frame;
-* the URDF's inertias are used (PyBullet recomputes them from collision shapes unless told otherwise), and
-  PyBullet's default link damping is removed, so the simulated dynamics match the controller's model.
+* the "applied" torque PyBullet reports in torque mode is zero: the measured effort is the command
+  applied;
+* base position/velocity are those of the base's centre of mass: they are moved to the URDF link
+  frame;
+* the URDF's inertias are used (PyBullet recomputes them from collision shapes unless told
+  otherwise), and PyBullet's default link damping is removed, so the simulated dynamics match the
+  controller's model.
 """
+
 from __future__ import annotations
 
 from typing import Callable
@@ -27,8 +45,13 @@ class SimModel:
         c = self.client = server.client
         self.fixed_base = bool(fixed_base)
         flags = pybullet.URDF_USE_INERTIA_FROM_FILE
-        self.body = c.loadURDF(urdf_path, basePosition=list(position), baseOrientation=list(orientation),
-                               useFixedBase=self.fixed_base, flags=flags)
+        self.body = c.loadURDF(
+            urdf_path,
+            basePosition=list(position),
+            baseOrientation=list(orientation),
+            useFixedBase=self.fixed_base,
+            flags=flags,
+        )
         self.name = name or c.getBodyInfo(self.body)[1].decode()
         self.urdf_path = urdf_path
         self._joint_ids, self._joint_names, self._effort = [], [], []
@@ -40,11 +63,14 @@ class SimModel:
                 self._effort.append(info[10])
         self.ndof = len(self._joint_ids)
         for link in range(-1, c.getNumJoints(self.body)):
-            c.changeDynamics(self.body, link, linearDamping=0.0, angularDamping=0.0, jointDamping=0.0)
-        c.setJointMotorControlArray(self.body, self._joint_ids, pybullet.VELOCITY_CONTROL,
-                                    forces=[0.0] * self.ndof)
+            c.changeDynamics(
+                self.body, link, linearDamping=0.0, angularDamping=0.0, jointDamping=0.0
+            )
+        c.setJointMotorControlArray(
+            self.body, self._joint_ids, pybullet.VELOCITY_CONTROL, forces=[0.0] * self.ndof
+        )
         dyn = c.getDynamicsInfo(self.body, -1)
-        self._base_com_pos = np.array(dyn[3])   # inertial frame in the link frame
+        self._base_com_pos = np.array(dyn[3])  # inertial frame in the link frame
         self._base_com_orn = np.array(dyn[4])
         self._cmd = np.zeros(self.ndof)
         self._gravity_torques = np.zeros(self.ndof)
@@ -69,7 +95,9 @@ class SimModel:
         idx = []
         for n in names:
             if n not in self._joint_names:
-                raise ValueError(f"model '{self.name}' has no joint '{n}' (joints: {self._joint_names})")
+                raise ValueError(
+                    f"model '{self.name}' has no joint '{n}' (joints: {self._joint_names})"
+                )
             idx.append(self._joint_names.index(n))
         return idx
 
@@ -77,7 +105,7 @@ class SimModel:
         """Teleport the named joints to the given positions (zero velocity)."""
         vals = np.asarray(joint_positions, dtype=float).reshape(-1)
         if len(joint_names) != vals.size:
-            raise ValueError(f"{len(joint_names)} joint names but {vals.size} positions")
+            raise ValueError(f'{len(joint_names)} joint names but {vals.size} positions')
         for k, val in zip(self._indices(joint_names), vals):
             self.client.resetJointState(self.body, self._joint_ids[k], float(val), 0.0)
         self._read_joints()
@@ -86,7 +114,9 @@ class SimModel:
         """Teleport the base (URDF link frame) for floating-base models."""
         R = _rot(orientation_xyzw)
         com = np.asarray(position, dtype=float) + R @ self._base_com_pos
-        _, com_orn = pybullet.multiplyTransforms([0, 0, 0], orientation_xyzw, [0, 0, 0], self._base_com_orn)
+        _, com_orn = pybullet.multiplyTransforms(
+            [0, 0, 0], orientation_xyzw, [0, 0, 0], self._base_com_orn
+        )
         self.client.resetBasePositionAndOrientation(self.body, com.tolist(), com_orn)
 
     def execute_after_world_update(self, cb: Callable[[int, float, float], None]) -> None:
@@ -96,7 +126,9 @@ class SimModel:
     def set_joint_torque_command(self, torques) -> None:
         tau = np.asarray(torques, dtype=float).reshape(-1)
         if tau.shape != (self.ndof,):
-            raise ValueError(f"model '{self.name}': torque command needs {self.ndof} values, got {tau.size}")
+            raise ValueError(
+                f"model '{self.name}': torque command needs {self.ndof} values, got {tau.size}"
+            )
         if not np.all(np.isfinite(tau)):
             raise ValueError(f"model '{self.name}': torque command contains NaN/inf")
         self._cmd[:] = tau
@@ -105,26 +137,39 @@ class SimModel:
         """Torques added to every command, as drives with built-in gravity compensation would."""
         g = np.asarray(torques, dtype=float).reshape(-1)
         if g.shape != (self.ndof,) or not np.all(np.isfinite(g)):
-            raise ValueError(f"model '{self.name}': gravity torques need {self.ndof} finite values")
+            raise ValueError(
+                f"model '{self.name}': gravity torques need {self.ndof} finite values"
+            )
         self._gravity_torques[:] = g
 
     def set_brakes(self, on: bool = True) -> None:
-        """Brakes hold the joints (velocity servo to zero with the joints' effort limits); commands ignored."""
+        """
+        Brakes hold the joints (velocity servo to zero with the joints' effort limits).
+
+        Commands ignored.
+        """
         self._brakes = bool(on)
         if not on:
-            self.client.setJointMotorControlArray(self.body, self._joint_ids, pybullet.VELOCITY_CONTROL,
-                                                  forces=[0.0] * self.ndof)
+            self.client.setJointMotorControlArray(
+                self.body, self._joint_ids, pybullet.VELOCITY_CONTROL, forces=[0.0] * self.ndof
+            )
 
     def _apply_commands(self) -> None:
         if self._brakes:
             forces = [e if e > 0 else 1e3 for e in self._effort]
-            self.client.setJointMotorControlArray(self.body, self._joint_ids, pybullet.VELOCITY_CONTROL,
-                                                  targetVelocities=[0.0] * self.ndof, forces=forces)
+            self.client.setJointMotorControlArray(
+                self.body,
+                self._joint_ids,
+                pybullet.VELOCITY_CONTROL,
+                targetVelocities=[0.0] * self.ndof,
+                forces=forces,
+            )
             self._applied[:] = 0.0
             return
         np.add(self._cmd, self._gravity_torques, out=self._applied)
-        self.client.setJointMotorControlArray(self.body, self._joint_ids, pybullet.TORQUE_CONTROL,
-                                              forces=self._applied.tolist())
+        self.client.setJointMotorControlArray(
+            self.body, self._joint_ids, pybullet.TORQUE_CONTROL, forces=self._applied.tolist()
+        )
 
     def _read_joints(self) -> None:
         states = self.client.getJointStates(self.body, self._joint_ids)
@@ -145,7 +190,11 @@ class SimModel:
         return self._v.copy()
 
     def get_joint_measured_torques(self) -> np.ndarray:
-        """Torque the drives applied during the last step (command + emulated gravity compensation)."""
+        """
+        Return the torque the drives applied during the last step.
+
+        The command plus the emulated gravity compensation.
+        """
         return self._applied.copy()
 
     def get_joint_external_torques(self) -> np.ndarray:
@@ -155,7 +204,9 @@ class SimModel:
     def get_world_to_base_transform(self) -> np.ndarray:
         """4x4 pose of the URDF base link frame in the world."""
         com, orn = self.client.getBasePositionAndOrientation(self.body)
-        inv_pos, inv_orn = pybullet.invertTransform(self._base_com_pos.tolist(), self._base_com_orn.tolist())
+        inv_pos, inv_orn = pybullet.invertTransform(
+            self._base_com_pos.tolist(), self._base_com_orn.tolist()
+        )
         pos, orn_link = pybullet.multiplyTransforms(com, orn, inv_pos, inv_orn)
         T = np.eye(4)
         T[:3, :3] = _rot(orn_link)
@@ -172,19 +223,29 @@ class SimModel:
         return np.concatenate((lin + np.cross(ang, r), ang))
 
     def _link(self, link_name: str) -> int:
-        if not hasattr(self, "_link_index"):
-            self._link_index = {self.client.getJointInfo(self.body, j)[12].decode(): j
-                                for j in range(self.client.getNumJoints(self.body))}
+        if not hasattr(self, '_link_index'):
+            self._link_index = {
+                self.client.getJointInfo(self.body, j)[12].decode(): j
+                for j in range(self.client.getNumJoints(self.body))
+            }
         if link_name not in self._link_index:
             raise ValueError(f"model '{self.name}' has no link '{link_name}'")
         return self._link_index[link_name]
 
     def get_link_position(self, link_name: str) -> np.ndarray:
         """World position of a link frame's origin (URDF link frame, not its centre of mass)."""
-        return np.array(self.client.getLinkState(self.body, self._link(link_name), computeForwardKinematics=True)[4])
+        return np.array(
+            self.client.getLinkState(
+                self.body, self._link(link_name), computeForwardKinematics=True
+            )[4]
+        )
 
     def get_link_velocity(self, link_name: str):
-        """(linear, angular) world velocity of a link; the linear one at the link's centre of mass."""
+        """
+        (linear, angular) world velocity of a link.
+
+        The linear one at the link's centre of mass.
+        """
         s = self.client.getLinkState(self.body, self._link(link_name), computeLinkVelocity=True)
         return np.array(s[6]), np.array(s[7])
 

@@ -1,8 +1,23 @@
-"""PyBullet world standing in for the robot hardware (the reference's Gazebo server, on PyBullet).
-
-DIRECT (headless) by default, GUI on request; fixed time step; gravity; optional ground plane; ``step()`` /
-``run()`` call every model's after-step callbacks with (iteration, time, dt).
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """
+PyBullet world standing in for the robot hardware (the reference's Gazebo server, on PyBullet).
+
+DIRECT (headless) by default, GUI on request; fixed time step; gravity; optional ground plane;
+``step()`` / ``run()`` call every model's after-step callbacks with (iteration, time, dt).
+"""
+
 from __future__ import annotations
 
 import time
@@ -17,17 +32,24 @@ from .sim_model import SimModel
 
 
 class SimServer:
-    def __init__(self, gui: bool = False, time_step: float = 0.001, gravity=(0.0, 0.0, -9.81),
-                 ground_plane: bool = True):
+    def __init__(
+        self,
+        gui: bool = False,
+        time_step: float = 0.001,
+        gravity=(0.0, 0.0, -9.81),
+        ground_plane: bool = True,
+    ):
         if not time_step > 0.0:
-            raise ValueError(f"time step must be > 0 s, got {time_step}")
-        self.client = bullet_client.BulletClient(connection_mode=pybullet.GUI if gui else pybullet.DIRECT)
+            raise ValueError(f'time step must be > 0 s, got {time_step}')
+        self.client = bullet_client.BulletClient(
+            connection_mode=pybullet.GUI if gui else pybullet.DIRECT
+        )
         self.gui = gui
         self.time_step = float(time_step)
         self.client.setAdditionalSearchPath(pybullet_data.getDataPath())
         self.client.setPhysicsEngineParameter(fixedTimeStep=self.time_step, numSubSteps=0)
         self.set_gravity(gravity)
-        self.plane_id = self.client.loadURDF("plane.urdf") if ground_plane else None
+        self.plane_id = self.client.loadURDF('plane.urdf') if ground_plane else None
         self.models: list[SimModel] = []
         self.iteration = 0
         self.sim_time = 0.0
@@ -44,9 +66,14 @@ class SimServer:
     def get_iteration(self) -> int:
         return self.iteration
 
-    def insert_model_from_urdf_file(self, urdf_path: str, position=(0.0, 0.0, 0.0),
-                                    orientation=(0.0, 0.0, 0.0, 1.0), name: str = "",
-                                    fixed_base: bool = True) -> SimModel:
+    def insert_model_from_urdf_file(
+        self,
+        urdf_path: str,
+        position=(0.0, 0.0, 0.0),
+        orientation=(0.0, 0.0, 0.0, 1.0),
+        name: str = '',
+        fixed_base: bool = True,
+    ) -> SimModel:
         """Load a URDF; orientation is a quaternion (x, y, z, w)."""
         model = SimModel(self, urdf_path, position, orientation, name, fixed_base)
         self.models.append(model)
@@ -68,9 +95,17 @@ class SimServer:
             for cb in self._callbacks:
                 cb(self.iteration, self.sim_time, dt)
 
-    def run(self, duration: float | None = None, real_time: bool = False,
-            should_stop: Callable[[], bool] | None = None) -> None:
-        """Step until ``duration`` simulated seconds passed (forever if None) or ``should_stop()``."""
+    def run(
+        self,
+        duration: float | None = None,
+        real_time: bool = False,
+        should_stop: Callable[[], bool] | None = None,
+    ) -> None:
+        """
+        Step until ``duration`` simulated seconds passed or ``should_stop()``.
+
+        Forever if ``duration`` is None.
+        """
         end = None if duration is None else self.sim_time + duration
         t_wall0, t_sim0 = time.perf_counter(), self.sim_time
         while (end is None or self.sim_time < end - 1e-12) and not (should_stop and should_stop()):

@@ -1,14 +1,32 @@
-"""Cartesian acceleration task: J nu_dot + J_dot nu = a_des, a_des from a CartesianAccelerationPID."""
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Cartesian acceleration task.
+
+J nu_dot + J_dot nu = a_des, a_des from a CartesianAccelerationPID.
+"""
+
 from __future__ import annotations
 
-from ..servo.cartesian_acceleration_pid import CartesianAccelerationPID
 from .generic_task import GenericTask
+from ..servo.cartesian_acceleration_pid import CartesianAccelerationPID
 
 
 class CartesianTask(GenericTask):
     def __init__(self, name: str):
         super().__init__(name)
-        self._servo = CartesianAccelerationPID(f"{name}_servo")
+        self._servo = CartesianAccelerationPID(f'{name}_servo')
 
     def rows(self) -> int:
         return 6

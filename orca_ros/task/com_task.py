@@ -1,16 +1,31 @@
-"""Centre-of-mass task: J_com nu_dot + J_dot_com nu = a_des, with a PD(+I) servo in world axes
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Centre-of-mass task: J_com nu_dot + J_dot_com nu = a_des, with a PD(+I) servo in world axes.
 
     a_des = a_ref + Kp (p_ref - p_com) + Kd (v_ref - v_com) [+ Ki integral].
 
-Not in the reference library; what balancing a legged robot needs (the CoM over the support polygon).
-Without a target the task holds the CoM where it is when it first computes.
+Not in the reference library; what balancing a legged robot needs (the CoM over the support
+polygon). Without a target the task holds the CoM where it is when it first computes.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
-from ..servo.pid_controller import PIDController
 from .generic_task import GenericTask
+from ..servo.pid_controller import PIDController
 
 
 class CoMTask(GenericTask):
@@ -32,7 +47,11 @@ class CoMTask(GenericTask):
 
     def set_desired(self, position, velocity=None, acceleration=None) -> None:
         vals = []
-        for what, x in (("position", position), ("velocity", velocity), ("acceleration", acceleration)):
+        for what, x in (
+            ('position', position),
+            ('velocity', velocity),
+            ('acceleration', acceleration),
+        ):
             a = np.zeros(3) if x is None else np.asarray(x, dtype=float).reshape(-1)
             if a.shape != (3,) or not np.all(np.isfinite(a)):
                 raise ValueError(f"task '{self.name}': desired CoM {what} must be 3 finite values")
@@ -40,7 +59,11 @@ class CoMTask(GenericTask):
         self._p_ref, self._v_ref, self._a_ref = vals
 
     def get_desired(self):
-        return (None if self._p_ref is None else self._p_ref.copy()), self._v_ref.copy(), self._a_ref.copy()
+        return (
+            (None if self._p_ref is None else self._p_ref.copy()),
+            self._v_ref.copy(),
+            self._a_ref.copy(),
+        )
 
     def get_current_position(self) -> np.ndarray:
         return self.robot.get_center_of_mass()

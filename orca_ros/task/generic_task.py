@@ -1,4 +1,18 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """Weighted least-squares task  w * || diag(s) (E x - f) ||^2  on the reduced QP variables x."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -7,8 +21,8 @@ from ..common.task_base import TaskBase
 
 
 class GenericTask(TaskBase):
-    #: E selects these variables (rows = identity columns): the problem adds the task to the Hessian's
-    #: diagonal instead of forming E^T E (None: a dense task)
+    #: E selects these variables (rows = identity columns): the problem adds the task to the
+    #: Hessian's diagonal instead of forming E^T E (None: a dense task)
     diagonal_columns = None
 
     def __init__(self, name: str):
@@ -16,16 +30,20 @@ class GenericTask(TaskBase):
         self.layout = None
         self.weight = 1.0
         self.level = 0
-        self._owner = None  # the controller holding the task (its problem stack depends on the level)
+        self._owner = (
+            None  # the controller holding the task (its problem stack depends on the level)
+        )
         self._selection_request: np.ndarray | None = None
         self.E = np.zeros((0, 0))
         self.f = np.zeros(0)
         self.selection = np.zeros(0)
-        self.selection_version = 0  # bumped whenever the selection changes (the plan caches weight x selection)
+        self.selection_version = (
+            0  # bumped whenever the selection changes (the plan caches weight x selection)
+        )
 
     # -------------------------------------------------------------- configuration
     def rows(self) -> int:
-        """Number of rows of E for the current robot (subclasses)."""
+        """Return the number of rows of E for the current robot (subclasses)."""
         raise NotImplementedError
 
     def resize(self, layout) -> None:
@@ -53,7 +71,7 @@ class GenericTask(TaskBase):
 
     def set_priority_level(self, level: int) -> None:
         if int(level) < 0:
-            raise ValueError("priority level must be >= 0")
+            raise ValueError('priority level must be >= 0')
         if int(level) != self.level and self._owner is not None:
             self._owner._dirty = True  # the levels are rebuilt at the next update
         self.level = int(level)
@@ -61,12 +79,17 @@ class GenericTask(TaskBase):
     def set_selection_vector(self, selection) -> None:
         s = np.asarray(selection, dtype=float).reshape(-1)
         if np.any(s < 0) or not np.all(np.isfinite(s)):
-            raise ValueError(f"task '{self.name}': selection vector entries must be finite and >= 0")
+            raise ValueError(
+                f"task '{self.name}': selection vector entries must be finite and >= 0"
+            )
         if self.layout is None:
             self._selection_request = s
             return
         if s.shape != self.selection.shape:
-            raise ValueError(f"task '{self.name}': selection vector needs {self.selection.size} entries, got {s.size}")
+            raise ValueError(
+                f"task '{self.name}': selection vector needs {self.selection.size} entries, got "
+                f'{s.size}'
+            )
         self.selection[:] = s
         self._selection_request = s
         self.selection_version += 1
@@ -91,4 +114,4 @@ class GenericTask(TaskBase):
         raise NotImplementedError
 
     def describe(self) -> str:
-        return f"{super().describe()} weight {self.weight:g} level {self.level}"
+        return f'{super().describe()} weight {self.weight:g} level {self.level}'

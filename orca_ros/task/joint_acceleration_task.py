@@ -1,10 +1,28 @@
-"""Joint acceleration (posture) task: q_ddot = qdd_ref + P (q_ref - q) + I integral + D (qd_ref - qd)."""
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Joint acceleration (posture) task.
+
+q_ddot = qdd_ref + P (q_ref - q) + I integral + D (qd_ref - qd).
+"""
+
 from __future__ import annotations
 
 import numpy as np
 
-from ..servo.pid_controller import PIDController
 from .generic_task import GenericTask
+from ..servo.pid_controller import PIDController
 
 
 class JointAccelerationTask(GenericTask):
@@ -41,10 +59,12 @@ class JointAccelerationTask(GenericTask):
     def set_desired(self, q, qd=None, qdd=None) -> None:
         n = self._q_ref.size if self.robot is not None else np.asarray(q).size
         vals = []
-        for what, x in (("position", q), ("velocity", qd), ("acceleration", qdd)):
+        for what, x in (('position', q), ('velocity', qd), ('acceleration', qdd)):
             a = np.zeros(n) if x is None else np.asarray(x, dtype=float).reshape(-1)
             if a.shape != (n,) or not np.all(np.isfinite(a)):
-                raise ValueError(f"task '{self.name}': desired joint {what} must be {n} finite values")
+                raise ValueError(
+                    f"task '{self.name}': desired joint {what} must be {n} finite values"
+                )
             vals.append(a)
         if self.robot is None:
             self._q_ref, self._qd_ref, self._qdd_ref = vals

@@ -1,18 +1,33 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """Minimum-jerk point-to-point trajectory (fifth-order polynomial with zero boundary vel/acc)."""
+
 from __future__ import annotations
 
 import numpy as np
 
 
 class MinJerkPositionTrajectory:
-    """Position trajectory from ``start`` to ``end`` in ``duration`` seconds.
+    """
+    Position trajectory from ``start`` to ``end`` in ``duration`` seconds.
 
     The clock starts at the first :meth:`get_desired` call after :meth:`reset_trajectory`.
     """
 
     def __init__(self, duration: float):
         if not duration > 0.0:
-            raise ValueError(f"trajectory duration must be > 0 s, got {duration}")
+            raise ValueError(f'trajectory duration must be > 0 s, got {duration}')
         self.duration = float(duration)
         self._start = np.zeros(3)
         self._delta = np.zeros(3)

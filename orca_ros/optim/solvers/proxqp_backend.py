@@ -1,4 +1,18 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
 """Dense ProxQP back-end (proxsuite) with native box constraints and warm starts."""
+
 from __future__ import annotations
 
 import time
@@ -13,14 +27,15 @@ _MAX_INNER = 50
 
 
 class ProxQPBackend(QPBackend):
-    name = "proxqp"
-    # outer iterations: a warm-started feasible cycle takes 1-2; one costs up to ~100 us at quadruped size on
-    # an infeasible problem (measured), so the floor is kept low
+    name = 'proxqp'
+    # outer iterations: a warm-started feasible cycle takes 1-2; one costs up to ~100 us at
+    # quadruped size on an infeasible problem (measured), so the floor is kept low
     min_iterations = 4
 
     def __init__(self, nx: int, n_eq: int, n_in: int, eps_abs: float = 1e-9, box: bool = True):
         super().__init__(nx, n_eq, n_in)
-        self.box = box  # without: lbox/ubox are ignored (infinite box rows mislead ProxQP's infeasibility test)
+        # without: lbox/ubox are ignored (infinite box rows mislead ProxQP's infeasibility test)
+        self.box = box
         self.eps_abs = eps_abs
         self._make()
 
@@ -30,11 +45,12 @@ class ProxQPBackend(QPBackend):
         st.eps_abs = self.eps_abs
         st.eps_rel = 0.0
         st.max_iter = self.max_iterations
-        # max_iter bounds the outer (proximal) iterations; each runs inner Newton iterations, 1500 by default:
-        # bounded too, so that one outer iteration cannot take a whole control period
+        # max_iter bounds the outer (proximal) iterations; each runs inner Newton iterations, 1500
+        # by default: bounded too, so that one outer iteration cannot take a whole control period
         st.max_iter_in = _MAX_INNER
-        # the default infeasibility thresholds (1e-4) declare feasible control QPs with active torque limits
-        # infeasible within ~10 iterations (measured); true infeasibility is still detected at these
+        # the default infeasibility thresholds (1e-4) declare feasible control QPs with active
+        # torque limits infeasible within ~10 iterations (measured); true infeasibility is still
+        # detected at these
         st.eps_primal_inf = 1e-10
         st.eps_dual_inf = 1e-10
         st.verbose = False
@@ -45,41 +61,45 @@ class ProxQPBackend(QPBackend):
     def reset(self) -> None:
         self._make()
 
-    def solve(self, H, g, A, b, C, l, u, lbox, ubox) -> ReturnCode:
+    def solve(self, H, g, A, b, C, lc, u, lbox, ubox) -> ReturnCode:
         if self.n_eq == 0:
             A = b = None
         if self.n_in == 0:
-            C = l = u = None
+            C = lc = u = None
         if not self.box:
             lbox = ubox = None
         warm = self._initialized
         cap = self.iteration_cap()
-        code = self._solve_once(H, g, A, b, C, l, u, lbox, ubox, cap)
+        code = self._solve_once(H, g, A, b, C, lc, u, lbox, ubox, cap)
         if code is not ReturnCode.SUCCESS and warm and self.iterations < cap:
-            # a warm start from a different problem (limits or targets that moved) can make ProxQP declare a
-            # feasible problem infeasible within a few iterations (measured): retry once from a cold start
-            code = self._solve_once(H, g, A, b, C, l, u, lbox, ubox, cap - self.iterations)
+            # a warm start from a different problem (limits or targets that moved) can make ProxQP
+            # declare a feasible problem infeasible within a few iterations (measured): retry once
+            # from a cold start
+            code = self._solve_once(H, g, A, b, C, lc, u, lbox, ubox, cap - self.iterations)
         return code
 
-    def _solve_once(self, H, g, A, b, C, l, u, lbox, ubox, cap: int) -> ReturnCode:
+    def _solve_once(self, H, g, A, b, C, lc, u, lbox, ubox, cap: int) -> ReturnCode:
         qp = self._qp
         qp.settings.max_iter = int(cap)
         try:
             if not self._initialized:
                 if self.box:
-                    qp.init(H, g, A, b, C, l, u, lbox, ubox)
+                    qp.init(H, g, A, b, C, lc, u, lbox, ubox)
                 else:
-                    qp.init(H, g, A, b, C, l, u)
+                    qp.init(H, g, A, b, C, lc, u)
                 t0 = time.perf_counter()
                 qp.solve()
-                # warm starting needs a previous result: switching it on before the first solve crashes
-                qp.settings.initial_guess = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
+                # warm starting needs a previous result: switching it on before the first solve
+                # crashes
+                qp.settings.initial_guess = (
+                    proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
+                )
                 self._initialized = True
             else:
                 if self.box:
-                    qp.update(H, g, A, b, C, l, u, lbox, ubox)
+                    qp.update(H, g, A, b, C, lc, u, lbox, ubox)
                 else:
-                    qp.update(H, g, A, b, C, l, u)
+                    qp.update(H, g, A, b, C, lc, u)
                 t0 = time.perf_counter()
                 qp.solve()
         except Exception:  # proxsuite raises on inconsistent data; caller reports

@@ -1,0 +1,29 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""The ament flake8 linter with its ROS 2 configuration (99 columns, single quotes)."""
+
+import os
+
+from ament_flake8.main import main_with_errors
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CHECKED = ['orca_ros', 'test', 'bench', 'scripts', 'tools', 'setup.py']
+
+
+@pytest.mark.flake8
+@pytest.mark.linter
+def test_flake8():
+    rc, errors = main_with_errors(argv=[os.path.join(ROOT, p) for p in CHECKED])
+    assert rc == 0, f'{len(errors)} code style errors / warnings:\n' + '\n'.join(errors)
