@@ -39,6 +39,7 @@ def workspace(tmp_path_factory):
         src,
         ignore=shutil.ignore_patterns(
             '.venv',
+            '.venv-tsid',
             '.git',
             'build',
             'install',
@@ -50,7 +51,14 @@ def workspace(tmp_path_factory):
         ),
     )
     colcon = os.path.join(os.path.dirname(sys.executable), 'colcon')
-    proc = subprocess.run([colcon, 'build'], cwd=ws, capture_output=True, text=True, timeout=600)
+    # package selection (colcon-package-selection, pinned) as a ROS user types it
+    proc = subprocess.run(
+        [colcon, 'build', '--packages-select', 'orca_ros'],
+        cwd=ws,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
     return ws
 
