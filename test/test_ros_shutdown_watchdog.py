@@ -115,7 +115,8 @@ def test_killed_controller_bridge_holds(tmp_path):
         probe.send_target('ee', target, until=probe.moved_towards(target))
 
         def ee_speed():
-            # from the last state's joint velocities (no timing: messages may be dropped under load)
+            # from the last state's joint velocities (no timing: messages may be dropped under
+            # load)
             s = probe.last_state()
             probe.robot.set_robot_state(s[1], s[2])
             return np.linalg.norm(probe.robot.get_frame_velocity('link_7')[:3])

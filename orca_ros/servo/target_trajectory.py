@@ -34,7 +34,15 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
+
+from ..utils.optional_import import optional_import
+
+
+def _ruckig():
+    # ros-jazzy-ruckig is the C++ library only: the Python bindings come from pip
+    return optional_import(
+        'ruckig', 'target trajectories', 'or tasks.<name>.trajectory.enabled: false'
+    )
 
 
 def checked_limits(value, n: int, what: str) -> np.ndarray:
@@ -51,12 +59,13 @@ def checked_limits(value, n: int, what: str) -> np.ndarray:
 class _Profile:
     """One Ruckig trajectory over n DoF, started at a time stamp and sampled by absolute time."""
 
-    def __init__(self, n: int, synchronization=Synchronization.Time):
+    def __init__(self, n: int, synchronization: str = 'Time'):
+        rk = self._rk = _ruckig()
         self.n = n
-        self._otg = Ruckig(n)
-        self._inp = InputParameter(n)
-        self._inp.synchronization = synchronization
-        self._traj = Trajectory(n)
+        self._otg = rk.Ruckig(n)
+        self._inp = rk.InputParameter(n)
+        self._inp.synchronization = getattr(rk.Synchronization, synchronization)
+        self._traj = rk.Trajectory(n)
         self.t0: float | None = None
 
     def plan(self, t0, p, v, a, target, vmax, amax, jmax) -> float:
@@ -70,7 +79,7 @@ class _Profile:
         inp.target_velocity = inp.target_acceleration = [0.0] * self.n
         inp.max_velocity, inp.max_acceleration, inp.max_jerk = list(vmax), list(amax), list(jmax)
         res = self._otg.calculate(inp, self._traj)
-        if res not in (Result.Working, Result.Finished):
+        if res not in (self._rk.Result.Working, self._rk.Result.Finished):
             raise ValueError(f'no trajectory to this target (Ruckig: {res.name})')
         self.t0 = float(t0)
         return self._traj.duration
@@ -117,7 +126,7 @@ class CartesianTrajectory:
         self.vmax = checked_limits(max_velocity, 2, 'max_velocity [linear, angular]')
         self.amax = checked_limits(max_acceleration, 2, 'max_acceleration [linear, angular]')
         self.jmax = checked_limits(max_jerk, 2, 'max_jerk [linear, angular]')
-        self._lin = _Profile(3, Synchronization.Phase)
+        self._lin = _Profile(3, 'Phase')
         self._ang = _Profile(1)
         self._R0 = np.eye(3)
         self._axis = np.array([0.0, 0.0, 1.0])

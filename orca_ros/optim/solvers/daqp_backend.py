@@ -35,12 +35,7 @@ import time
 import numpy as np
 
 from .base import QPBackend, ReturnCode
-
-# an optional solver for the package (not packaged for apt): a clear error names the pip package
-try:
-    import daqp as _daqp
-except ImportError:  # pragma: no cover - exercised only where daqp is missing
-    _daqp = None
+from ...utils.optional_import import optional_import
 
 _EQUALITY = 5
 # DAQP's exit flags (1 optimal, 2 optimal with soft constraints, -1 infeasible, -2 cycling, -3
@@ -59,8 +54,8 @@ class DAQPBackend(QPBackend):
     name = 'daqp'
 
     def __init__(self, nx: int, n_eq: int, n_in: int):
-        if _daqp is None:
-            raise ImportError("the DAQP solver needs the 'daqp' Python package (pip install daqp)")
+        # not packaged for rosdep: a missing package is an error naming the pip line
+        self._daqp = optional_import('daqp', "solver 'daqp'", 'or solver: proxqp / osqp')
         super().__init__(nx, n_eq, n_in)
         m = n_eq + n_in
         self._M = np.zeros((m, nx))
@@ -106,7 +101,7 @@ class DAQPBackend(QPBackend):
     def _solve_once(self, H, g, M, lo, hi, cap: int) -> ReturnCode:
         try:
             if self._model is None:
-                model = _daqp.Model()
+                model = self._daqp.Model()
                 model.setup(H, g, M, hi, lo, self._sense)
                 self._model = model
                 self._cap = None

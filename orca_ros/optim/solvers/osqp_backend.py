@@ -26,10 +26,10 @@ import sys
 import time
 
 import numpy as np
-import osqp
 import scipy.sparse as sp
 
 from .base import QPBackend, ReturnCode
+from ...utils.optional_import import optional_import
 
 _INF = 1e30
 
@@ -130,7 +130,9 @@ class OSQPBackend(QPBackend):
                 P.data[:] = Px
                 Am = self._A_pattern.copy()
                 Am.data[:] = Ax
-                s = osqp.OSQP()
+                s = optional_import(
+                    'osqp', "solver 'osqp'", 'or solver: daqp / proxqp'
+                ).OSQP()
                 s.setup(
                     P,
                     g,

@@ -17,12 +17,9 @@ from __future__ import annotations
 
 import time
 
-import proxsuite
-
 from .base import QPBackend, ReturnCode
+from ...utils.optional_import import optional_import
 
-_dense = proxsuite.proxqp.dense
-_STATUS = proxsuite.proxqp.QPSolverOutput
 _MAX_INNER = 50
 
 
@@ -33,6 +30,10 @@ class ProxQPBackend(QPBackend):
     min_iterations = 4
 
     def __init__(self, nx: int, n_eq: int, n_in: int, eps_abs: float = 1e-9, box: bool = True):
+        # ros-jazzy-proxsuite (rosdep key proxsuite) or pip
+        self._proxqp = optional_import(
+            'proxsuite', "solver 'proxqp'", 'or solver: daqp / osqp'
+        ).proxqp
         super().__init__(nx, n_eq, n_in)
         # without: lbox/ubox are ignored (infinite box rows mislead ProxQP's infeasibility test)
         self.box = box
@@ -40,7 +41,7 @@ class ProxQPBackend(QPBackend):
         self._make()
 
     def _make(self) -> None:
-        qp = _dense.QP(self.nx, self.n_eq, self.n_in, self.box)
+        qp = self._proxqp.dense.QP(self.nx, self.n_eq, self.n_in, self.box)
         st = qp.settings
         st.eps_abs = self.eps_abs
         st.eps_rel = 0.0
@@ -92,7 +93,7 @@ class ProxQPBackend(QPBackend):
                 # warm starting needs a previous result: switching it on before the first solve
                 # crashes
                 qp.settings.initial_guess = (
-                    proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
+                    self._proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
                 )
                 self._initialized = True
             else:
@@ -109,15 +110,15 @@ class ProxQPBackend(QPBackend):
         self.iterations = res.info.iter_ext  # the unit of max_iter (outer iterations)
         self.record(time.perf_counter() - t0, self.iterations)
         status = res.info.status
-        if status == _STATUS.PROXQP_SOLVED:
+        if status == self._proxqp.QPSolverOutput.PROXQP_SOLVED:
             self.x = res.x
             return ReturnCode.SUCCESS
         # a failed solve leaves a poor warm start: start cold next time
         self._make()
-        if status == _STATUS.PROXQP_MAX_ITER_REACHED:
+        if status == self._proxqp.QPSolverOutput.PROXQP_MAX_ITER_REACHED:
             return ReturnCode.MAX_ITERATIONS
-        if status == _STATUS.PROXQP_PRIMAL_INFEASIBLE:
+        if status == self._proxqp.QPSolverOutput.PROXQP_PRIMAL_INFEASIBLE:
             return ReturnCode.PRIMAL_INFEASIBLE
-        if status == _STATUS.PROXQP_DUAL_INFEASIBLE:
+        if status == self._proxqp.QPSolverOutput.PROXQP_DUAL_INFEASIBLE:
             return ReturnCode.DUAL_INFEASIBLE
         return ReturnCode.NOT_SOLVED
