@@ -113,10 +113,10 @@ def test_gain_change_applies_and_bad_changes_are_refused(tmp_path):
         )
         assert not res[0].successful and 'tasks.ee.kd' in res[0].reason
         assert rise_time(probe, step=-0.01) == pytest.approx(t_100, rel=0.15)
-        # the solve budget: 50 ms by default in lockstep (the simulation waits), changed live, both
+        # the solve budget: 1 s by default in lockstep (the simulation waits), changed live, both
         # at once
         probe.wait_for(
-            lambda: probe.diagnostics.get('solver_budget') == '50 ms, default iterations',
+            lambda: probe.diagnostics.get('solver_budget') == '1000 ms, default iterations',
             60,
             'the lockstep default budget in the diagnostics',
         )

@@ -83,13 +83,21 @@ def test_target_step_follows_a_jerk_limited_path(tmp_path):
 
     profile = CartesianTrajectory([0.25, 1.0], [1.0, 3.0], [5.0, 15.0])
     duration = profile.start(0.0, start, np.zeros(6), np.zeros(6), target)
-    progress = (
-        np.array([profile.sample(t - times[0])[0][:3, 3] @ d for t in times]) - start[:3, 3] @ d
-    )
+
+    def along(t):
+        return profile.sample(t)[0][:3, 3] @ d - start[:3, 3] @ d
+
+    # the profile starts when the controller took the target (the probe repeats it until it acts,
+    # later on a busy machine): found where the end effector first moves 10 um along the line,
+    # minus the time the profile itself takes to get there (its jerk-limited start)
+    fine = np.arange(0.0, 0.2, 1e-4)
+    tau = fine[np.argmax([along(t) > 1e-5 for t in fine])]
+    t_start = times[np.argmax(rel @ d > 1e-5)] - tau
+    progress = np.array([along(t - t_start) for t in times])
     lag = np.abs(rel @ d - progress).max()
     assert lag < 0.02, f'the end effector is {lag * 1e3:.1f} mm from the profile at worst'
     err = np.linalg.norm(path[-1] - target[:3, 3])
-    assert err < 1e-3 and times[-1] - times[0] > duration
+    assert err < 1e-3 and times[-1] - t_start > duration
 
 
 def test_without_trajectory_the_step_hits_the_servo(tmp_path):

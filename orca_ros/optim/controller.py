@@ -45,6 +45,10 @@ _LOG = get_logger('controller')
 
 
 class Controller:
+    #: time budget of a new controller's cycles [s]; None: one control period (the dt of each
+    #: update). Offline users (tests judging physics, batch simulations) may raise it for all.
+    default_time_budget: float | None = None
+
     def __init__(
         self,
         name: str,
@@ -78,7 +82,7 @@ class Controller:
         self._remove_gravity = False
         self._remove_coriolis = False
         self._update_cb: Callable[[float, float], None] | None = None
-        self._time_budget: float | None = None  # None: one control period (the dt of each update)
+        self._time_budget: float | None = self.default_time_budget
         self._max_iterations: int | None = None  # None: each solver's default
         n = self.layout.ndof
         self._tau = np.zeros(n)

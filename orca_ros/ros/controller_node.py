@@ -171,13 +171,14 @@ class OrcaControllerNode(
 
     def set_solver_budget(self, time_budget: float, max_iterations: int) -> None:
         """
-        0 s: one control period with a timer (the cycle must end in time).
+        Set the solve budget of every cycle.
 
-        50 ms in lockstep (the simulation waits for the command: a busy machine must not change the
-        outcome); 0 iterations: the solver's cap.
+        0 s: one control period with a timer (the cycle must end in time), 1 s in lockstep (the
+        simulation waits for the command: a busy machine must not change the outcome); 0
+        iterations: the solver's cap.
         """
         if time_budget <= 0.0:
-            time_budget = None if self.trigger == 'timer' else 0.05
+            time_budget = None if self.trigger == 'timer' else 1.0
         self.controller.set_solver_budget(
             time_budget, max_iterations if max_iterations > 0 else None
         )

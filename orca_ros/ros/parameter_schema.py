@@ -125,7 +125,7 @@ SCHEMA: tuple[ParamSpec, ...] = (
         _F,
         True,
         "wall-clock time for a cycle's QP solves [s]; 0 = one period "
-        '(timer), 0.05 s (lockstep: the simulation waits, results do not depend on the load)',
+        '(timer), 1 s (lockstep: the simulation waits, results do not depend on the load)',
         0.0,
         10.0,
     ),
