@@ -15,9 +15,11 @@
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import rclpy
-from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 STATE_QOS = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.BEST_EFFORT, history=HistoryPolicy.KEEP_LAST
@@ -27,6 +29,13 @@ COMMAND_QOS = QoSProfile(
 )
 DEFAULT_QOS = QoSProfile(
     depth=10, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST
+)
+# robot_state_publisher's convention: the URDF text, latched for late subscribers
+DESCRIPTION_QOS = QoSProfile(
+    depth=1,
+    reliability=ReliabilityPolicy.RELIABLE,
+    history=HistoryPolicy.KEEP_LAST,
+    durability=DurabilityPolicy.TRANSIENT_LOCAL,
 )
 
 
@@ -87,7 +96,11 @@ def run_node(node_class, args=None, on_shutdown: str | None = None) -> int:
 
     from rclpy.signals import SignalHandlerOptions  # noqa: PLC0415
 
-    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    try:
+        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    except Exception as exc:  # noqa: BLE001 - malformed --ros-args: one line, no traceback
+        print(f'{node_class.__name__}: cannot start: {exc}', file=sys.stderr)
+        return 2
     received: list[int] = []
 
     def on_signal(signum, _frame):

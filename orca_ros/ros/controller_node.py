@@ -35,10 +35,11 @@ import time
 from nav_msgs.msg import Odometry
 import numpy as np
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Float64MultiArray
+from std_msgs.msg import Float64MultiArray, String
 
 from .common import (
     COMMAND_QOS,
+    DESCRIPTION_QOS,
     nested_parameters,
     param,
     pose_to_matrix,
@@ -67,7 +68,7 @@ class OrcaControllerNode(
         cfg = {
             k: param(self, k, d)
             for k, d in (
-                ('urdf_path', 'lwr.urdf'),
+                ('urdf_path', ''),
                 ('robot_description', ''),
                 ('base_frame', ''),
                 ('joints', []),
@@ -77,6 +78,10 @@ class OrcaControllerNode(
                 ('gravity_compensated_by_hardware', False),
             )
         }
+        if not cfg['urdf_path'] and not cfg['robot_description']:
+            cfg['robot_description'] = self._wait_for_robot_description(
+                float(param(self, 'robot_description_timeout', 60.0))
+            )
         cfg['tasks'] = nested_parameters(self, 'tasks')
         self.floating = bool(cfg['floating_base'])
         cfg['constraints'] = nested_parameters(self, 'constraints')
@@ -168,6 +173,30 @@ class OrcaControllerNode(
             f'orca_controller: {self.n} joints, {self.update_rate:.0f} Hz ({self.trigger}), '
             f'solver {self.controller.solver.value}, tasks {list(setup.tasks)}'
         )
+
+    def _wait_for_robot_description(self, timeout: float) -> str:
+        """Take the URDF from the latched ``robot_description`` topic, waiting up to ``timeout``."""
+        import rclpy  # noqa: PLC0415
+
+        got = []
+        sub = self.create_subscription(
+            String, 'robot_description', lambda m: got.append(m.data), DESCRIPTION_QOS
+        )
+        topic = self.resolve_topic_name('robot_description')
+        self.get_logger().info(f'no urdf_path or robot_description parameter: waiting on {topic}')
+        t0 = time.monotonic()
+        while not got and rclpy.ok(context=self.context):
+            if timeout > 0.0 and time.monotonic() - t0 > timeout:
+                raise RuntimeError(
+                    'no URDF: no urdf_path or robot_description parameter, and nothing on '
+                    f'{topic} within {timeout:.0f} s (robot_description_timeout)'
+                )
+            rclpy.spin_once(self, timeout_sec=0.1)
+        self.destroy_subscription(sub)
+        if not got:
+            raise RuntimeError('shut down while waiting for the URDF')
+        self.get_logger().info(f'URDF from {topic} ({len(got[-1])} characters)')
+        return got[-1]
 
     def set_solver_budget(self, time_budget: float, max_iterations: int) -> None:
         """

@@ -56,8 +56,22 @@ class ParamSpec:
 _F, _FS, _B = 'float', 'floats', 'bool'
 SCHEMA: tuple[ParamSpec, ...] = (
     # structure: fixed once the node runs
-    ParamSpec('urdf_path', 'str', False, "URDF file (relative names: the package's urdf/)"),
+    ParamSpec(
+        'urdf_path',
+        'str',
+        False,
+        "URDF file (relative names: the package's urdf/); neither this nor robot_description: the "
+        'URDF comes from the robot_description topic',
+    ),
     ParamSpec('robot_description', 'str', False, 'URDF text, takes precedence over urdf_path'),
+    ParamSpec(
+        'robot_description_timeout',
+        'float',
+        False,
+        'wait for the robot_description topic this long [s], 0 = forever',
+        0.0,
+        3600.0,
+    ),
     ParamSpec('base_frame', 'str', False, 'frame of Cartesian targets and feedback'),
     ParamSpec('joints', 'strs', False, 'commanded joints, in the order of the command array'),
     ParamSpec('floating_base', _B, False, 'free-flyer root joint (base pose and twist from odom)'),

@@ -39,10 +39,17 @@ from nav_msgs.msg import Odometry
 import numpy as np
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Float64MultiArray
+from std_msgs.msg import Float64MultiArray, String
 from std_srvs.srv import Trigger
 
-from .common import COMMAND_QOS, param, run_node, sec_to_stamp, STATE_QOS
+from .common import (
+    COMMAND_QOS,
+    DESCRIPTION_QOS,
+    param,
+    run_node,
+    sec_to_stamp,
+    STATE_QOS,
+)
 from .guarded_node import GuardedNode
 from ..configuration import resolve_urdf_path
 from ..math.rotations import quaternion_xyzw
@@ -80,6 +87,11 @@ class PyBulletBridge(GuardedNode):
             urdf = fh.name
         else:
             urdf = resolve_urdf_path(urdf)
+            with open(urdf) as fh:
+                description = fh.read()
+        # the URDF for controllers started without one (robot_state_publisher's topic and QoS)
+        self.pub_description = self.create_publisher(String, 'robot_description', DESCRIPTION_QOS)
+        self.pub_description.publish(String(data=description))
         self.server = SimServer(
             gui=bool(param(self, 'gui', False)),
             time_step=self.time_step,
