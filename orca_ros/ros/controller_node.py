@@ -175,7 +175,7 @@ class OrcaControllerNode(
         )
 
     def _wait_for_robot_description(self, timeout: float) -> str:
-        """Take the URDF from the latched ``robot_description`` topic, waiting up to ``timeout``."""
+        """Take the URDF from the latched ``robot_description`` topic; wait up to ``timeout``."""
         import rclpy  # noqa: PLC0415
 
         got = []
