@@ -325,9 +325,15 @@ class OrcaControllerNode(
         t = self._now()
         dt = self.period if self._t_prev is None else max(1e-6, t - self._t_prev)
         self._t_prev = t
-        stale = 'joint_states' if wall - self._state_wall > self.state_timeout else None
-        if stale is None and self.floating and wall - self._odom_wall > self.state_timeout:
-            stale = 'odom'
+        stale = None
+        # lockstep: a step runs only once the state of a new instant is in (the simulator waits),
+        # so the wall-clock time between joint states and odom of one instant (long on a busy
+        # machine) is no staleness; a silent simulator shows in the diagnostics instead
+        if self.trigger == 'timer':
+            if wall - self._state_wall > self.state_timeout:
+                stale = 'joint_states'
+            elif self.floating and wall - self._odom_wall > self.state_timeout:
+                stale = 'odom'
         if stale is not None:
             self._publish_safe(
                 t,

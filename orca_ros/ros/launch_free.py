@@ -51,6 +51,17 @@ def ros_env(domain: int) -> dict:
     return env
 
 
+def _die_with_parent():
+    """In the child before exec: SIGTERM when the parent dies (Linux), even by SIGKILL."""
+    try:
+        import ctypes  # noqa: PLC0415
+        import signal  # noqa: PLC0415
+
+        ctypes.CDLL('libc.so.6', use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+
+
 class Procs:
     def __init__(self, domain: int, tmp_path):
         self.domain, self.tmp, self.procs = domain, tmp_path, []
@@ -62,6 +73,8 @@ class Procs:
             env=ros_env(self.domain),
             stdout=log,
             stderr=subprocess.STDOUT,
+            # a killed parent (a test's timeout, Ctrl-C) leaves no node running on its domain
+            preexec_fn=_die_with_parent,
         )
         self.procs.append((p, log, name))
         return p
