@@ -16,8 +16,9 @@ if [ ! -f "$STAMP" ] || [ "$(cat "$STAMP")" != "$WANT" ]; then
   python -m pip install --quiet --upgrade pip
   python -m pip install --quiet -r "$ROOT/requirements.txt"
   python -m pip install --quiet --no-deps --no-build-isolation -e "$ROOT"
-  # ament_copyright is not on PyPI: pinned .debs from Debian's archive (see the script)
-  python "$ROOT/scripts/debian_python_tools.py"
   echo "$WANT" > "$STAMP"
 fi
+# ament_copyright is not on PyPI: pinned .debs from Debian's archive (see the script); returns at once
+# when it is installed, and only warns when Debian is out of reach (test_copyright then says so)
+python "$ROOT/scripts/debian_python_tools.py" || true
 cd "$ROOT"
