@@ -152,9 +152,12 @@ def test_stale_odom_gives_the_safe_command(tmp_path):
             publish(False)
             time.sleep(0.005)
         assert 'odom stale' in procs.log('controller'), procs.log('controller')[-2000:]
+        # commands keep coming (the safe one), finite
+        n = len(probe.commands)
+        probe.wait_for(lambda: len(probe.commands) > n + 20, 60, 'commands after odom went stale')
         with probe.lock:
             cmds = np.array(probe.commands)
-        assert len(cmds) > 100 and np.all(np.isfinite(cmds))
+        assert np.all(np.isfinite(cmds))
     finally:
         probe.close()
         procs.stop()

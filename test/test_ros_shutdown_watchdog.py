@@ -133,6 +133,8 @@ def test_killed_controller_bridge_holds(tmp_path):
         with probe.lock:
             before = [s for s in probe.states if s[0] <= kill_time]
         at_kill = probe.ee_pose(before[-1][1])
+        probe.robot.set_robot_state(before[-1][1], before[-1][2])
+        v_kill = np.linalg.norm(probe.robot.get_frame_velocity('link_7')[:3])
 
         def after():
             with probe.lock:
@@ -145,7 +147,8 @@ def test_killed_controller_bridge_holds(tmp_path):
         ee = np.array([probe.ee_pose(s[1])[:3, 3] for s in window])
         moved = np.linalg.norm(ee - at_kill[:3, 3], axis=1).max()
         assert moved < 0.05, (
-            f'end effector moved {moved * 1e3:.0f} mm in the 2 s after the controller died'
+            f'end effector moved {moved * 1e3:.0f} mm in the 2 s after the controller died '
+            f'(at {v_kill:.3f} m/s)'
         )
         assert np.abs(window[-1][2]).max() < 0.05, 'not at rest'
         log = procs.log('bridge')

@@ -26,7 +26,7 @@ deterministic runs). Services: ``~/reset``, ``~/pause``, ``~/unpause`` (std_srvs
 
 Watchdog (free running): without a valid command for ``command_timeout`` [0.02 s of simulated time]
 the bridge holds the robot like a drive would (the last command fades over ``hold_ramp`` [0.05 s]
-into gravity + damping ``hold_damping`` [10 /s], see :class:`orca_ros.safety.CommandWatchdog`),
+into gravity + damping ``hold_damping`` [20 /s], see :class:`orca_ros.safety.CommandWatchdog`),
 says so once, and applies the next command as soon as it arrives. Before the first command it holds
 too.
 """
@@ -134,7 +134,7 @@ class PyBulletBridge(GuardedNode):
                 joints,
                 self.command_timeout,
                 self.hw_gravity,
-                float(param(self, 'hold_damping', 10.0)),
+                float(param(self, 'hold_damping', 20.0)),
                 float(param(self, 'hold_ramp', 0.05)),
             )
         self.paused = False

@@ -36,7 +36,7 @@ class CommandWatchdog:
         joints,
         timeout: float,
         gravity_by_hardware: bool = False,
-        damping: float = 10.0,
+        damping: float = 20.0,
         ramp: float = 0.05,
     ):
         if not timeout > 0:
