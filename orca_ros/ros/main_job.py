@@ -111,7 +111,8 @@ def main(argv=None) -> int:
             T = start.copy()
             T[:3, 3] += off
             targets.append(T)
-            probe.send_target('ee', T)
+            # repeated until the arm moves (discovery may drop a new publisher's first messages)
+            probe.send_target('ee', T, until=probe.moved_towards(T))
             settle = _wait_reached(probe, T, args.tolerance, 6.0)
             err = np.linalg.norm(probe.ee_pose()[:3, 3] - T[:3, 3])
             rows.append((f'target {k + 1}', T[:3, 3], err, settle))
