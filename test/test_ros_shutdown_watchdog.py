@@ -190,7 +190,7 @@ def test_diagnostics_error_on_failing_qp(tmp_path):
 
 def test_diagnostics_ok_then_error_on_stale_state_then_warn_on_overruns(tmp_path):
     # healthy must be reachable on a busy machine (two CPU burners: a 500 Hz loop overran for
-    # good): 200 Hz, overruns counted above 5 periods; the overrun case below is unreachable anywhere
+    # good): 200 Hz, overruns counted above 5 periods; the overrun case below fails anywhere
     procs, probe = start(
         tmp_path,
         'free_running',
