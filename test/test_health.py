@@ -68,6 +68,10 @@ def test_each_fault_has_its_level_and_reason():
         OK,
         'controlling',
     )  # lockstep: the simulator's pace
+    # a starved loop: 4 cycles in a 0.2 s report at a 1 ms period (too few to judge periods)
+    lvl, msg = judge(periods=np.full(4, 0.05), interval=0.2)
+    assert lvl == WARN and msg.startswith('loop overruns: 4 cycles in 200 ms (200 expected')
+    assert judge(interval=0.2) == (OK, 'controlling')  # 200 cycles in 0.2 s: on time
     lvl, msg = judge(persistent_errors=[('ee', 0.12, 2.5)])
     assert lvl == WARN and "task 'ee' error 0.12 for 2.5 s" in msg
 

@@ -76,6 +76,9 @@ class ControllerDiagnostics:
         )
         c0, f0, d0 = self._diag_marks
         self._diag_marks = (cycles, fails, dropped)
+        now = time.monotonic()
+        interval = now - getattr(self, '_diag_wall', now)
+        self._diag_wall = now
         # lockstep: a paused simulator re-announces its state about every 0.25 s, which is not a
         # fault
         timeout = self.state_timeout if self.trigger == 'timer' else max(self.state_timeout, 0.5)
@@ -92,6 +95,7 @@ class ControllerDiagnostics:
             nominal_period=self.period,
             check_periods=self.trigger == 'timer',
             overrun_factor=self.overrun_factor,
+            interval=interval,
             persistent_errors=self.error_watch.persistent(self._now()) if self._have_state else [],
         )
         st = DiagnosticStatus()

@@ -74,6 +74,7 @@ def assess(
     check_periods: bool,
     overrun_factor: float,
     persistent_errors,
+    interval: float = 0.0,
 ) -> tuple[int, str]:
     """(level, message) for one report; the counters are those since the previous report."""
     errors, warns, infos = [], [], []
@@ -91,7 +92,14 @@ def assess(
         errors.append(f'{qp_failures} QP failure(s) since the last report')
     if dropped_levels:
         warns.append(f'{dropped_levels} cycle(s) dropped a priority level since the last report')
-    if check_periods and periods.size >= 10:
+    expected = interval / nominal_period if nominal_period > 0 else 0.0
+    if check_periods and have_state and expected >= 10 and periods.size < 0.5 * expected:
+        # too few cycles to judge their periods: that itself is the overrun (a starved loop)
+        warns.append(
+            f'loop overruns: {periods.size} cycles in {interval * 1e3:.0f} ms '
+            f'({expected:.0f} expected at a {nominal_period * 1e3:.2f} ms period)'
+        )
+    elif check_periods and periods.size >= 10:
         limit = overrun_factor * nominal_period
         over = int(np.count_nonzero(periods > limit))
         p99 = float(np.quantile(periods, 0.99))
