@@ -53,6 +53,22 @@ def iiwa_urdf():
     return os.path.join(pybullet_data.getDataPath(), 'kuka_iiwa', 'model.urdf')
 
 
+@pytest.fixture(scope='session')
+def example_robot_urdf():
+    """Path of a URDF of example-robot-data, e.g. ``talos_data/robots/talos_reduced.urdf``."""
+    import glob
+    import sys
+
+    def find(rel):
+        for p in sys.path:
+            hit = glob.glob(f'{p}/cmeel.prefix/share/example-robot-data/robots/{rel}')
+            if hit:
+                return hit[0]
+        pytest.skip('example-robot-data not installed')
+
+    return find
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(1234)

@@ -52,19 +52,8 @@ def test_wrench_cone_is_exactly_the_corner_pyramids():
     assert inside > 20 and outside > 20
 
 
-def _erd(rel):
-    import glob
-    import sys
-
-    for p in sys.path:
-        hit = glob.glob(f'{p}/cmeel.prefix/share/example-robot-data/robots/{rel}')
-        if hit:
-            return hit[0]
-    pytest.skip('example-robot-data not installed')
-
-
 @pytest.mark.parametrize('solver', ['daqp', 'proxqp', 'osqp'])
-def test_talos_on_two_soles_has_full_rank_equalities(solver):
+def test_talos_on_two_soles_has_full_rank_equalities(solver, example_robot_urdf):
     """
     Talos (example-robot-data, 38 DoF) on both soles.
 
@@ -74,9 +63,11 @@ def test_talos_on_two_soles_has_full_rank_equalities(solver):
     import pinocchio as pin
 
     robot = orca.RobotModel()
-    robot.load_model_from_file(_erd('talos_data/robots/talos_reduced.urdf'), floating_base=True)
+    robot.load_model_from_file(
+        example_robot_urdf('talos_data/robots/talos_reduced.urdf'), floating_base=True
+    )
     model = robot.model
-    pin.loadReferenceConfigurations(model, _erd('talos_data/srdf/talos.srdf'), False)
+    pin.loadReferenceConfigurations(model, example_robot_urdf('talos_data/srdf/talos.srdf'), False)
     q = np.array(model.referenceConfigurations['half_sitting'])
     robot.set_base_frame('world')
     robot.set_robot_state(

@@ -20,7 +20,9 @@ No ROS here: the controller node flattens its parameters into this dictionary, a
 directly.
 
 Keys (defaults in brackets): ``urdf_path`` or ``robot_description``; ``floating_base`` [false];
-``base_frame`` [URDF root]; ``joints`` [all, URDF order] (the order of commands on the wire);
+``base_frame`` [URDF root]; ``joints`` [all, URDF order] (the joints commanded, in the order of
+the commands on the wire; the others are welded at their measured positions, see
+:class:`orca_ros.robot.joint_locking.LockedJoints`); ``locked_joint_tolerance`` [1e-4];
 ``solver`` [proxqp]; ``resolution_strategy`` [one_level_weighted];
 ``gravity_compensated_by_hardware`` [false]; ``regularisation`` {weight, damping}; ``tasks``:
 {names: [...], <name>: {type, ...}}; ``constraints``: {names: [...], <name>: {type, ...}}.
@@ -121,12 +123,8 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         robot.set_base_frame(cfg['base_frame'])
     if cfg.get('gravity') is not None:
         robot.set_gravity(cfg['gravity'])
+    joints = _lock_other_joints(robot, cfg)
     model_joints = robot.get_joint_names()
-    joints = list(cfg.get('joints') or model_joints)
-    if sorted(joints) != sorted(model_joints):
-        raise ConfigError(
-            f"'joints' must list exactly the robot's joints {model_joints}, got {joints}"
-        )
     model_index = np.array([joints.index(n) for n in model_joints])
     n = robot.get_nr_of_degrees_of_freedom()
 
@@ -196,6 +194,25 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         c.set_ramp_duration(float(cc.get('ramp', 0.0)))
         setup.initially_active[name] = bool(cc.get('active', True))
     return setup
+
+
+def _lock_other_joints(robot: RobotModel, cfg: dict) -> list[str]:
+    """Weld the joints ``joints`` leaves out; return ``joints`` (the wire order)."""
+    model_joints = robot.get_joint_names()
+    joints = list(cfg.get('joints') or model_joints)
+    unknown = [j for j in joints if j not in model_joints]
+    if unknown or len(set(joints)) != len(joints):
+        raise ConfigError(
+            f"'joints' must list distinct joints of the robot {model_joints}, got {joints}"
+            + (f' (unknown: {unknown})' if unknown else ' (duplicates)')
+        )
+    others = [j for j in model_joints if j not in joints]
+    if others:
+        try:
+            robot.lock_joints(others, tolerance=float(cfg.get('locked_joint_tolerance', 1e-4)))
+        except ValueError as exc:
+            raise ConfigError(str(exc)) from None
+    return joints
 
 
 def _make_contact(name: str, cc: dict):

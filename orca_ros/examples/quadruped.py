@@ -256,9 +256,9 @@ def run_in_pybullet(
         sim = server.insert_model_from_urdf_file(
             quadruped_urdf(), position=home + [0, 0, 0.001], fixed_base=False
         )
-        sim.set_model_configuration(robot.get_joint_names(), STAND_Q)
         names = robot.get_joint_names()
-        assert sim.get_joint_names() == names
+        sim.set_model_configuration(names, STAND_Q)
+        by_name = sim.joint_map(names)  # Pinocchio's joint order <-> PyBullet's (the file's)
         dt = server.time_step
         state = {'t': 0.0}
 
@@ -266,15 +266,15 @@ def run_in_pybullet(
             t = state['t']
             robot.set_robot_state(
                 sim.get_world_to_base_transform(),
-                sim.get_joint_positions(),
+                sim.get_joint_positions(by_name),
                 sim.get_base_velocity(),
-                sim.get_joint_velocities(),
+                sim.get_joint_velocities(by_name),
                 GRAVITY,
             )
             qc.set_base_target(target, vel, acc)
             if not qc.update(t, dt):
                 log.failures += 1
-            sim.set_joint_torque_command(c.get_joint_torque_command())
+            sim.set_joint_torque_command(c.get_joint_torque_command(), by_name)
             server.step()
             _record(log, qc, sim, t, target)
             state['t'] = t + dt

@@ -45,13 +45,16 @@ def run(urdf: str, duration: float = 6.0, gui: bool = False, segment: float = 2.
     with SimServer(gui=gui) as server:
         model = server.insert_model_from_urdf_file(urdf)
         q0 = np.array([0.0, 0.6, 0.0, -1.4, 0.0, 0.9, 0.0])
-        model.set_model_configuration(model.get_joint_names(), q0)
+        by_name = model.joint_map(robot.get_joint_names())  # the simulator's order may differ
+        model.set_model_configuration(by_name.names, q0)
         robot.set_robot_state(q0, np.zeros(7))
         servo.set_desired(make_transform(a, R))  # first go to the start point and settle
         controller.activate_tasks_and_constraints()
 
         def step(n, t, dt):
-            robot.set_robot_state(model.get_joint_positions(), model.get_joint_velocities())
+            robot.set_robot_state(
+                model.get_joint_positions(by_name), model.get_joint_velocities(by_name)
+            )
             if t > 1.5 and not ctx['settled']:
                 ctx['settled'] = True
                 traj.reset_trajectory(a, b)
@@ -63,7 +66,7 @@ def run(urdf: str, duration: float = 6.0, gui: bool = False, segment: float = 2.
                     ctx['leg'] += 1
                     traj.reset_trajectory(*((b, a) if ctx['leg'] % 2 else (a, b)))
             if controller.update(t, dt):
-                model.set_joint_torque_command(controller.get_joint_torque_command())
+                model.set_joint_torque_command(controller.get_joint_torque_command(), by_name)
             else:
                 model.set_brakes(True)
 

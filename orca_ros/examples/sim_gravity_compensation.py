@@ -36,12 +36,15 @@ def run(urdf: str, duration: float = 2.0, gui: bool = False, compensate: bool = 
     with SimServer(gui=gui) as server:
         model = server.insert_model_from_urdf_file(urdf)
         q0 = np.array([0.4, 0.8, -0.3, -1.1, 0.5, 0.7, 0.1])
-        model.set_model_configuration(model.get_joint_names(), q0)
+        by_name = model.joint_map(robot.get_joint_names())  # the simulator's order may differ
+        model.set_model_configuration(by_name.names, q0)
 
         def compensate_gravity(n, t, dt):
-            robot.set_robot_state(model.get_joint_positions(), model.get_joint_velocities())
+            robot.set_robot_state(
+                model.get_joint_positions(by_name), model.get_joint_velocities(by_name)
+            )
             model.set_joint_gravity_torques(
-                robot.get_joint_gravity_torques() if compensate else np.zeros(7)
+                by_name.to_sim(robot.get_joint_gravity_torques() if compensate else np.zeros(7))
             )
 
         compensate_gravity(0, 0.0, server.time_step)
@@ -49,8 +52,8 @@ def run(urdf: str, duration: float = 2.0, gui: bool = False, compensate: bool = 
         server.run(duration)
         return {
             'q0': q0,
-            'q': model.get_joint_positions(),
-            'measured': model.get_joint_measured_torques(),
+            'q': model.get_joint_positions(by_name),
+            'measured': model.get_joint_measured_torques(by_name),
         }
 
 

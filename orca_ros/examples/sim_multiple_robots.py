@@ -38,23 +38,27 @@ def run(urdf: str, duration: float = 1.0, gui: bool = False):
         right = server.insert_model_from_urdf_file(urdf, position=(0.0, 0.6, 0.0), name='right')
         q_left = np.array([0.2, 0.6, 0.0, -1.0, 0.0, 0.5, 0.0])
         q_right = np.array([-0.2, 0.4, 0.3, -0.8, 0.0, 0.4, 0.0])
-        left.set_model_configuration(left.get_joint_names(), q_left)
-        right.set_model_configuration(right.get_joint_names(), q_right)
-        set_ok = np.allclose(left.get_joint_positions(), q_left) and np.allclose(
-            right.get_joint_positions(), q_right
+        names = robot.get_joint_names()  # arrays below are in this (Pinocchio's) order
+        left.set_model_configuration(names, q_left)
+        right.set_model_configuration(names, q_right)
+        set_ok = np.allclose(left.get_joint_positions(names), q_left) and np.allclose(
+            right.get_joint_positions(names), q_right
         )
+        on_left = left.joint_map(names)
 
         def hold_left(n, t, dt):
-            robot.set_robot_state(left.get_joint_positions(), left.get_joint_velocities())
-            left.set_joint_gravity_torques(robot.get_joint_gravity_torques())
+            robot.set_robot_state(
+                left.get_joint_positions(on_left), left.get_joint_velocities(on_left)
+            )
+            left.set_joint_gravity_torques(on_left.to_sim(robot.get_joint_gravity_torques()))
 
         hold_left(0, 0.0, server.time_step)
         left.execute_after_world_update(hold_left)
         server.run(duration)
         return {
             'set_ok': set_ok,
-            'left_moved': float(np.abs(left.get_joint_positions() - q_left).max()),
-            'right_moved': float(np.abs(right.get_joint_positions() - q_right).max()),
+            'left_moved': float(np.abs(left.get_joint_positions(names) - q_left).max()),
+            'right_moved': float(np.abs(right.get_joint_positions(names) - q_right).max()),
             'bases': (
                 left.get_world_to_base_transform()[:3, 3],
                 right.get_world_to_base_transform()[:3, 3],

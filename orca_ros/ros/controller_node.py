@@ -15,7 +15,9 @@
 orca_controller: the whole-body controller as a ROS 2 node.
 
 In: ``joint_states`` (mapped by name, extra joints ignored, best effort, depth 1). Out: effort
-commands on ``command_topic`` (Float64MultiArray in the ``joints`` order, reliable). The QP runs in
+commands on ``command_topic`` (Float64MultiArray in the ``joints`` order, reliable). Joints of the
+URDF that ``joints`` leaves out are locked in the model at the positions the joint states report
+(another controller drives them) and never commanded. The QP runs in
 a fixed-rate timer (``trigger: timer``) or once per received state (``trigger: joint_state``, for
 lockstep simulation). Task targets, services, feedback and diagnostics: see
 :mod:`orca_ros.ros.controller_interfaces`.
@@ -76,6 +78,7 @@ class OrcaControllerNode(
                 ('resolution_strategy', 'one_level_weighted'),
                 ('floating_base', False),
                 ('gravity_compensated_by_hardware', False),
+                ('locked_joint_tolerance', 1e-4),
             )
         }
         if not cfg['urdf_path'] and not cfg['robot_description']:
@@ -117,6 +120,8 @@ class OrcaControllerNode(
         self._v = np.zeros(self.n)
         self._q_in = np.zeros(self.n)
         self._v_in = np.zeros(self.n)
+        self._locked = self.robot.get_locked_joint_names()
+        self._locked_q = np.zeros(len(self._locked))
         self._stopped = False
         self._state_stamp = None
         self._state_wall = None  # wall time of the last valid joint state
@@ -170,8 +175,10 @@ class OrcaControllerNode(
             raise ValueError(f"trigger must be 'timer' or 'joint_state', got '{self.trigger}'")
         self.setup_live_parameters()
         self.get_logger().info(
-            f'orca_controller: {self.n} joints, {self.update_rate:.0f} Hz ({self.trigger}), '
-            f'solver {self.controller.solver.value}, tasks {list(setup.tasks)}'
+            f'orca_controller: {self.n} joints'
+            f'{f" (locked: {self._locked})" if self._locked else ""}, '
+            f'{self.update_rate:.0f} Hz ({self.trigger}), solver '
+            f'{self.controller.solver.value}, tasks {list(setup.tasks)}'
         )
 
     def _wait_for_robot_description(self, timeout: float) -> str:
@@ -234,6 +241,7 @@ class OrcaControllerNode(
             return
         self._q[:] = self._q_in
         self._v[:] = self._v_in
+        self._locked_q[:] = self._input.locked_positions
         self._state_wall = time.monotonic()
         self._state_stamp = stamp
         self._on_new_state()
@@ -283,6 +291,8 @@ class OrcaControllerNode(
         return not self.floating or self._odom_stamp is not None
 
     def _apply_state(self) -> None:
+        if self._locked:
+            self.robot.set_locked_joint_positions(self._locked_q)  # re-welds when they moved
         if self.floating:
             self.robot.set_robot_state(
                 self._base_T, self._q, self._base_twist, self._v, self._gravity

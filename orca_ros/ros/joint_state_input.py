@@ -19,8 +19,9 @@ naming what is wrong: missing or duplicate joint names, array sizes, NaN/infinit
 position outside the URDF limits by more than ``position_margin``, a velocity beyond
 ``velocity_factor`` times the URDF velocity limit (or ``max_velocity`` where the URDF gives none).
 Absurd finite values (1e300) fail the limit checks like any other implausible reading, without
-arithmetic that could overflow. Extra joints (another controller's) are ignored. No ROS here: the
-node hands over the message's fields.
+arithmetic that could overflow. The positions of the joints locked in the model (another
+controller's, e.g. a gripper's) are read and checked too, into ``locked_positions``; other extra
+joints are ignored. No ROS here: the node hands over the message's fields.
 """
 
 from __future__ import annotations
@@ -48,12 +49,16 @@ class JointStateInput:
         max_velocity: float = 100.0,
     ):
         self.joints = list(joints)  # wire order
+        self.locked = robot.get_locked_joint_names()  # read, checked, never commanded
         self._wire_of_model = np.asarray(wire_of_model, dtype=int)
         lo, hi = robot.get_joint_position_limits()  # model order
         vel = robot.get_joint_velocity_limits()
         to_wire = np.empty(len(self.joints), dtype=int)
         to_wire[self._wire_of_model] = np.arange(len(self.joints))
         lo, hi, vel = lo[to_wire], hi[to_wire], vel[to_wire]  # wire order, as the message values
+        locked_lo, locked_hi = robot.get_locked_joint_position_limits()
+        lo, hi = np.concatenate((lo, locked_lo)), np.concatenate((hi, locked_hi))
+        self.locked_positions = np.zeros(len(self.locked))
         limited = (
             np.isfinite(lo) & np.isfinite(hi) & (hi > lo) & (np.abs(lo) < 1e9) & (np.abs(hi) < 1e9)
         )
@@ -61,6 +66,7 @@ class JointStateInput:
         self.lower = np.where(limited, lo - margin, -_UNLIMITED)
         self.upper = np.where(limited, hi + margin, _UNLIMITED)
         self.margin = margin
+        self._names = self.joints + self.locked
         has_v = np.isfinite(vel) & (vel > 0)
         self.max_speed = np.where(
             has_v, float(velocity_factor) * np.where(has_v, vel, 0.0), float(max_velocity)
@@ -82,12 +88,12 @@ class JointStateInput:
                 'state:duplicates', f'joint_states rejected: duplicate joint names {dup}'
             )
         where = {n: i for i, n in enumerate(key)}
-        missing = [j for j in self.joints if j not in where]
+        missing = [j for j in self._names if j not in where]
         if missing:
             raise StateRejected(
                 'state:missing', f'joint_states rejected: missing joints {missing}'
             )
-        self._pick = np.array([where[j] for j in self.joints], dtype=int)
+        self._pick = np.array([where[j] for j in self._names], dtype=int)
         self._names_key = key
         return self._pick
 
@@ -106,9 +112,11 @@ class JointStateInput:
                 f'{len(velocity)} velocities for {n} names',
             )
         pos = np.asarray(position, dtype=float)[pick]
-        vel = np.asarray(velocity, dtype=float)[pick]
+        vel = np.asarray(velocity, dtype=float)[pick[:len(self.joints)]]
         if not (np.isfinite(pos).all() and np.isfinite(vel).all()):
-            bad = [self.joints[i] for i in np.flatnonzero(~(np.isfinite(pos) & np.isfinite(vel)))]
+            bad_v = np.zeros(pos.size, dtype=bool)
+            bad_v[:vel.size] = ~np.isfinite(vel)
+            bad = [self._names[i] for i in np.flatnonzero(~np.isfinite(pos) | bad_v)]
             raise StateRejected(
                 'state:nan', f'joint_states rejected: NaN or infinite position/velocity of {bad}'
             )
@@ -118,13 +126,13 @@ class JointStateInput:
             raise StateRejected(
                 'state:limits',
                 (
-                    f'joint_states rejected: {self.joints[i]} position {pos[i]:.4g} outside its '
+                    f'joint_states rejected: {self._names[i]} position {pos[i]:.4g} outside its '
                     'limits '
                     f'[{self.lower[i] + self.margin:.4g}, {self.upper[i] - self.margin:.4g}] by '
                     'more than the '
                     f'{self.margin:g} margin'
                     if self.upper[i] < _UNLIMITED
-                    else f'joint_states rejected: {self.joints[i]} position {pos[i]:.4g} is not a '
+                    else f'joint_states rejected: {self._names[i]} position {pos[i]:.4g} is not a '
                          'plausible reading'
                 ),
             )
@@ -136,5 +144,7 @@ class JointStateInput:
                 f'joint_states rejected: {self.joints[i]} velocity {vel[i]:.4g} '
                 f'beyond the plausible {self.max_speed[i]:.4g}',
             )
-        q_out[:] = pos[self._wire_of_model]
+        n_cmd = len(self.joints)
+        q_out[:] = pos[:n_cmd][self._wire_of_model]
         v_out[:] = vel[self._wire_of_model]
+        self.locked_positions[:] = pos[n_cmd:]

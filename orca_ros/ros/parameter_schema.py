@@ -73,7 +73,21 @@ SCHEMA: tuple[ParamSpec, ...] = (
         3600.0,
     ),
     ParamSpec('base_frame', 'str', False, 'frame of Cartesian targets and feedback'),
-    ParamSpec('joints', 'strs', False, 'commanded joints, in the order of the command array'),
+    ParamSpec(
+        'joints',
+        'strs',
+        False,
+        'commanded joints, in the order of the command array; the others are locked in the model '
+        'at their measured positions and never commanded',
+    ),
+    ParamSpec(
+        'locked_joint_tolerance',
+        _F,
+        False,
+        'a locked joint that moved more is welded again at its new position [rad or m]',
+        0.0,
+        1.0,
+    ),
     ParamSpec('floating_base', _B, False, 'free-flyer root joint (base pose and twist from odom)'),
     ParamSpec('solver', 'str', False, 'QP solver', choices=('daqp', 'proxqp', 'osqp')),
     ParamSpec(

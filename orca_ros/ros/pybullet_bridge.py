@@ -18,7 +18,10 @@ Publishes ``joint_states`` (name, position, velocity, effort), ``odom`` (nav_msg
 floating base only, twist in the child frame as the message defines) and ``/clock`` (simulated
 time); takes effort commands on ``/<controller_name>/commands`` (std_msgs/Float64MultiArray in the
 ``joints`` order, reliable QoS, as ros2_control's forward effort controller), so a real robot
-replaces this node by a parameter change.
+replaces this node by a parameter change. Joints of the URDF outside ``joints`` (a gripper's) are
+held by the simulator's position motor at ``held_joint_positions``, as their own driver would, and
+published after the commanded ones. The simulator is addressed by joint names throughout (its own
+joint order is the URDF file's, not Pinocchio's).
 
 Modes: ``free_running`` (the simulation advances at wall-clock rate ``rate``) and ``lockstep``
 (each command advances the simulation by ``control_period`` and answers with the new state:
@@ -114,7 +117,21 @@ class PyBulletBridge(GuardedNode):
         if self.initial.size != len(joints):
             raise ValueError(f'initial_positions needs {len(joints)} values')
         self.model.set_model_configuration(joints, self.initial)
-        self._order = np.array([self.model.get_joint_names().index(n) for n in joints])
+        self._cmd_map = self.model.joint_map(joints)
+        # joints nobody commands here (a gripper's): its own driver, PyBullet's position motor,
+        # holds them; joint_states carries them after the commanded ones
+        self.held = [n for n in self.model.get_joint_names() if n not in joints]
+        self.held_positions = np.array(
+            param(self, 'held_joint_positions', [0.0] * len(self.held)) or [0.0] * len(self.held),
+            dtype=float,
+        )
+        if self.held_positions.size != len(self.held):
+            raise ValueError(f'held_joint_positions needs {len(self.held)} values ({self.held})')
+        if self.held:
+            self.model.set_model_configuration(self.held, self.held_positions)
+            self.model.set_joint_position_servo(self.held, self.held_positions)
+        self._state_map = self.model.joint_map(joints + self.held)
+        self._order = self._cmd_map.sim_index
         self.effort_limit = np.array(
             [e if e > 0 else np.inf for e in np.array(self.model._effort)[self._order]]
         )
@@ -122,10 +139,7 @@ class PyBulletBridge(GuardedNode):
         # watchdog's hold
         self.robot_model = RobotModel()
         self.robot_model.load_model_from_file(urdf, self.floating)
-        sim_names = self.model.get_joint_names()
-        self._sim_of_model = np.array(
-            [sim_names.index(n) for n in self.robot_model.get_joint_names()], dtype=int
-        )
+        self._model_map = self.model.joint_map(self.robot_model.get_joint_names())
         self.command_timeout = float(param(self, 'command_timeout', 0.02))
         self.watchdog = None
         if self.mode == 'free_running':  # lockstep: the simulation only advances on commands
@@ -153,7 +167,7 @@ class PyBulletBridge(GuardedNode):
         self.create_service(Trigger, '~/pause', self._on_pause)
         self.create_service(Trigger, '~/unpause', self._on_unpause)
         self._js = JointState()
-        self._js.name = list(joints)
+        self._js.name = list(joints) + self.held
         if self.mode == 'free_running':
             self.steps_per_tick = max(1, int(round(1.0 / (self.rate * self.time_step))))
             self.create_timer(1.0 / self.rate, self._tick)
@@ -203,9 +217,7 @@ class PyBulletBridge(GuardedNode):
         if self.stop_time > 0 and self.server.get_time() >= self.stop_time - 1e-9:
             self.paused = True
         if not self.paused:
-            full = np.zeros(self.model.get_nr_of_degrees_of_freedom())
-            full[self._order] = self._watched_command()
-            self.model.set_joint_torque_command(full)
+            self.model.set_joint_torque_command(self._watched_command(), self._cmd_map)
             for _ in range(self.steps_per_tick):
                 if self.hw_gravity:
                     self._update_gravity()
@@ -246,8 +258,8 @@ class PyBulletBridge(GuardedNode):
     def _model_state(self):
         """Copy the simulated state into the Pinocchio model; model-order q, v."""
         rm = self.robot_model
-        q = self.model.get_joint_positions()[self._sim_of_model]
-        v = self.model.get_joint_velocities()[self._sim_of_model]
+        q = self.model.get_joint_positions(self._model_map)
+        v = self.model.get_joint_velocities(self._model_map)
         if self.floating:
             rm.set_robot_state(
                 self.model.get_world_to_base_transform(),
@@ -262,11 +274,9 @@ class PyBulletBridge(GuardedNode):
 
     def _update_gravity(self) -> None:
         self._model_state()
-        g = np.zeros(len(self._sim_of_model))
-        g[self._sim_of_model] = (
-            self.robot_model.get_joint_gravity_torques()
-        )  # model order -> simulator order
-        self.model.set_joint_gravity_torques(g)
+        self.model.set_joint_gravity_torques(
+            self._model_map.to_sim(self.robot_model.get_joint_gravity_torques())
+        )
 
     def _tick(self) -> None:
         self._advance()
@@ -284,10 +294,10 @@ class PyBulletBridge(GuardedNode):
             sec_to_stamp(self.server.get_time(), js.header.stamp)
         else:
             js.header.stamp = self.get_clock().now().to_msg()
-        o = self._order
-        js.position = self.model.get_joint_positions()[o].tolist()
-        js.velocity = self.model.get_joint_velocities()[o].tolist()
-        js.effort = self.model.get_joint_measured_torques()[o].tolist()
+        o = self._state_map
+        js.position = self.model.get_joint_positions(o).tolist()
+        js.velocity = self.model.get_joint_velocities(o).tolist()
+        js.effort = self.model.get_joint_measured_torques(o).tolist()
         self.pub_js.publish(js)
         if self.pub_odom is not None:
             self._publish_odom(js.header.stamp)
@@ -324,6 +334,8 @@ class PyBulletBridge(GuardedNode):
     def _on_reset(self, req, res):
         self._cmd[:] = 0.0
         self.model.set_model_configuration(self.joints, self.initial)
+        if self.held:
+            self.model.set_model_configuration(self.held, self.held_positions)
         self._publish_state()
         res.success, res.message = True, 'joints reset to initial_positions, command zeroed'
         return res

@@ -13,7 +13,9 @@
 # limitations under the License.
 """PyBullet stand-in for robot hardware (no ROS)."""
 
+from .contacts import ContactPoint
+from .joint_map import JointMap
 from .sim_model import SimModel
 from .sim_server import SimServer
 
-__all__ = ['SimModel', 'SimServer']
+__all__ = ['ContactPoint', 'JointMap', 'SimModel', 'SimServer']

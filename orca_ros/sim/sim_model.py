@@ -23,8 +23,16 @@ PyBullet traps handled here:
 * base position/velocity are those of the base's centre of mass: they are moved to the URDF link
   frame;
 * the URDF's inertias are used (PyBullet recomputes them from collision shapes unless told
-  otherwise), and PyBullet's default link damping is removed, so the simulated dynamics match the
-  controller's model.
+  otherwise, and gives 1 kg to links without ``<inertial>``, which URDF and Pinocchio take as
+  massless), and PyBullet's default link damping is removed, so the simulated dynamics match the
+  controller's model;
+* PyBullet orders joints as the URDF file lists them, which is not Pinocchio's order (it sorts
+  sibling subtrees by joint name): every array method takes optional joint ``names`` and then
+  works in their order; :meth:`SimModel.joint_map` precomputes the map for a control loop.
+
+Joints given to :meth:`SimModel.set_joint_position_servo` are held by PyBullet's position motor
+(a gripper's own driver, say) and take no torque commands. Friction: :meth:`SimModel.set_friction`;
+contacts: :meth:`SimModel.get_contacts` (see :mod:`orca_ros.sim.contacts`).
 """
 
 from __future__ import annotations
@@ -33,6 +41,9 @@ from typing import Callable
 
 import numpy as np
 import pybullet
+
+from .contacts import ContactPoint, read_contacts
+from .joint_map import JointMap
 
 
 def _rot(quat_xyzw) -> np.ndarray:
@@ -66,6 +77,7 @@ class SimModel:
             c.changeDynamics(
                 self.body, link, linearDamping=0.0, angularDamping=0.0, jointDamping=0.0
             )
+        self._massless_links_as_in_the_urdf(urdf_path)
         c.setJointMotorControlArray(
             self.body, self._joint_ids, pybullet.VELOCITY_CONTROL, forces=[0.0] * self.ndof
         )
@@ -76,10 +88,32 @@ class SimModel:
         self._gravity_torques = np.zeros(self.ndof)
         self._applied = np.zeros(self.ndof)
         self._brakes = False
+        self._servo = np.zeros(self.ndof, dtype=bool)  # joints held by the position motor
+        self._servo_target = np.zeros(self.ndof)
         self._callbacks: list[Callable[[int, float, float], None]] = []
         self._q = np.zeros(self.ndof)
         self._v = np.zeros(self.ndof)
         self._read_joints()
+
+    def _massless_links_as_in_the_urdf(self, urdf_path) -> None:
+        """
+        Links without ``<inertial>`` are massless in URDF (and in Pinocchio); PyBullet gives 1 kg.
+
+        Only links on a fixed joint are made massless (a massless link on a moving joint would
+        make the joint's inertia zero).
+        """
+        import xml.etree.ElementTree as ET  # noqa: PLC0415
+
+        try:
+            root = ET.parse(urdf_path).getroot()
+        except (ET.ParseError, OSError):
+            return
+        bare = {ln.get('name') for ln in root.findall('link') if ln.find('inertial') is None}
+        c = self.client
+        for j in range(c.getNumJoints(self.body)):
+            info = c.getJointInfo(self.body, j)
+            if info[12].decode() in bare and info[2] == pybullet.JOINT_FIXED:
+                c.changeDynamics(self.body, j, mass=0.0, localInertiaDiagonal=[0.0, 0.0, 0.0])
 
     # -------------------------------------------------------------- names and configuration
     def get_name(self) -> str:
@@ -91,15 +125,12 @@ class SimModel:
     def get_nr_of_degrees_of_freedom(self) -> int:
         return self.ndof
 
+    def joint_map(self, names) -> JointMap:
+        """Map between arrays ordered like ``names`` and this model's (PyBullet's) order."""
+        return JointMap(self._joint_names, names, self.name)
+
     def _indices(self, names):
-        idx = []
-        for n in names:
-            if n not in self._joint_names:
-                raise ValueError(
-                    f"model '{self.name}' has no joint '{n}' (joints: {self._joint_names})"
-                )
-            idx.append(self._joint_names.index(n))
-        return idx
+        return self.joint_map(names).sim_index
 
     def set_model_configuration(self, joint_names, joint_positions) -> None:
         """Teleport the named joints to the given positions (zero velocity)."""
@@ -123,15 +154,76 @@ class SimModel:
         self._callbacks.append(cb)
 
     # -------------------------------------------------------------- commands
-    def set_joint_torque_command(self, torques) -> None:
+    def set_joint_torque_command(self, torques, names=None) -> None:
+        """
+        Torques for the next steps: all joints in this model's order, or the named ones.
+
+        With ``names`` (or a :class:`JointMap`), only those joints' commands change.
+        """
         tau = np.asarray(torques, dtype=float).reshape(-1)
-        if tau.shape != (self.ndof,):
+        idx = self._selection(names)
+        n = self.ndof if idx is None else idx.size
+        if tau.shape != (n,):
             raise ValueError(
-                f"model '{self.name}': torque command needs {self.ndof} values, got {tau.size}"
+                f"model '{self.name}': torque command needs {n} values, got {tau.size}"
             )
         if not np.all(np.isfinite(tau)):
             raise ValueError(f"model '{self.name}': torque command contains NaN/inf")
-        self._cmd[:] = tau
+        if idx is None:
+            self._cmd[:] = tau
+        else:
+            self._cmd[idx] = tau
+
+    def _selection(self, names):
+        if names is None:
+            return None
+        if isinstance(names, JointMap):
+            if names.sim_names != self._joint_names:
+                raise ValueError(f"that joint map was not made for model '{self.name}'")
+            return names.sim_index
+        return self._indices(names)
+
+    def set_joint_position_servo(self, names, positions, max_forces=None) -> None:
+        """
+        Hold the named joints at ``positions`` with PyBullet's position motor.
+
+        For joints another controller drives (a gripper's fingers): they take no torque
+        commands until :meth:`release_joint_position_servo`. ``max_forces`` default to the URDF
+        effort limits.
+        """
+        idx = self._indices(names)
+        x = np.asarray(positions, dtype=float).reshape(-1)
+        if x.size != idx.size or not np.all(np.isfinite(x)):
+            raise ValueError(f'{idx.size} finite positions needed for {list(names)}, got {x}')
+        self._servo[idx] = True
+        self._servo_target[idx] = x
+        f = (
+            np.array([self._effort[k] if self._effort[k] > 0 else 1e3 for k in idx])
+            if max_forces is None
+            else np.broadcast_to(np.asarray(max_forces, dtype=float), idx.shape)
+        )
+        self.client.setJointMotorControlArray(
+            self.body,
+            [self._joint_ids[k] for k in idx],
+            pybullet.POSITION_CONTROL,
+            targetPositions=x.tolist(),
+            forces=f.tolist(),
+        )
+
+    def release_joint_position_servo(self, names) -> None:
+        """Back to torque control for the named joints (motor off, zero command)."""
+        idx = self._indices(names)
+        self._servo[idx] = False
+        self._cmd[idx] = 0.0
+        self.client.setJointMotorControlArray(
+            self.body,
+            [self._joint_ids[k] for k in idx],
+            pybullet.VELOCITY_CONTROL,
+            forces=[0.0] * idx.size,
+        )
+
+    def get_servoed_joint_names(self) -> list[str]:
+        return [n for n, s in zip(self._joint_names, self._servo) if s]
 
     def set_joint_gravity_torques(self, torques) -> None:
         """Torques added to every command, as drives with built-in gravity compensation would."""
@@ -167,6 +259,16 @@ class SimModel:
             self._applied[:] = 0.0
             return
         np.add(self._cmd, self._gravity_torques, out=self._applied)
+        if self._servo.any():
+            self._applied[self._servo] = 0.0
+            torque = np.flatnonzero(~self._servo)
+            self.client.setJointMotorControlArray(
+                self.body,
+                [self._joint_ids[k] for k in torque],
+                pybullet.TORQUE_CONTROL,
+                forces=self._applied[torque].tolist(),
+            )
+            return
         self.client.setJointMotorControlArray(
             self.body, self._joint_ids, pybullet.TORQUE_CONTROL, forces=self._applied.tolist()
         )
@@ -183,19 +285,25 @@ class SimModel:
             cb(n, t, dt)
 
     # -------------------------------------------------------------- measurements
-    def get_joint_positions(self) -> np.ndarray:
-        return self._q.copy()
+    def _pick(self, values: np.ndarray, names) -> np.ndarray:
+        idx = self._selection(names)
+        return values.copy() if idx is None else values[idx]
 
-    def get_joint_velocities(self) -> np.ndarray:
-        return self._v.copy()
+    def get_joint_positions(self, names=None) -> np.ndarray:
+        """Joint positions in this model's order, or in the order of ``names``."""
+        return self._pick(self._q, names)
 
-    def get_joint_measured_torques(self) -> np.ndarray:
+    def get_joint_velocities(self, names=None) -> np.ndarray:
+        return self._pick(self._v, names)
+
+    def get_joint_measured_torques(self, names=None) -> np.ndarray:
         """
         Return the torque the drives applied during the last step.
 
-        The command plus the emulated gravity compensation.
+        The command plus the emulated gravity compensation (zero for servoed joints, whose motor
+        force PyBullet does not report in torque terms).
         """
-        return self._applied.copy()
+        return self._pick(self._applied, names)
 
     def get_joint_external_torques(self) -> np.ndarray:
         """Not measured by this simulator: zeros (no joint torque sensors are emulated)."""
@@ -228,6 +336,7 @@ class SimModel:
                 self.client.getJointInfo(self.body, j)[12].decode(): j
                 for j in range(self.client.getNumJoints(self.body))
             }
+            self._link_index[self.client.getBodyInfo(self.body)[0].decode()] = -1
         if link_name not in self._link_index:
             raise ValueError(f"model '{self.name}' has no link '{link_name}'")
         return self._link_index[link_name]
@@ -251,3 +360,57 @@ class SimModel:
 
     def get_gravity(self) -> np.ndarray:
         return self.server.gravity.copy()
+
+    # -------------------------------------------------------------- friction and contacts
+    def set_friction(self, lateral: float, spinning=None, rolling=None, links=None) -> None:
+        """
+        Coulomb friction coefficients of the named links (default: every link and the base).
+
+        PyBullet combines the coefficients of two touching bodies by multiplying them; the ground
+        plane's are 1 unless :meth:`SimServer.set_ground_friction` changes them.
+        """
+        values = {'lateralFriction': float(lateral)}
+        if spinning is not None:
+            values['spinningFriction'] = float(spinning)
+        if rolling is not None:
+            values['rollingFriction'] = float(rolling)
+        if not all(np.isfinite(v) and v >= 0 for v in values.values()):
+            raise ValueError(f'friction coefficients must be finite and >= 0, got {values}')
+        ids = (
+            range(-1, self.client.getNumJoints(self.body))
+            if links is None
+            else [self._link(n) for n in links]
+        )
+        for link in ids:
+            self.client.changeDynamics(self.body, link, **values)
+
+    def get_friction(self, link: str) -> dict:
+        """Lateral, spinning and rolling friction coefficients of a link."""
+        info = self.client.getDynamicsInfo(self.body, self._link(link))
+        return {'lateral': info[1], 'rolling': info[6], 'spinning': info[7]}
+
+    def get_contacts(self, links=None) -> list[ContactPoint]:
+        """Contact points after the last step (of the named links only, when given)."""
+        names = {i: n for n, i in self._link_names().items()}
+        points = read_contacts(self.client, self.body, names)
+        if links is None:
+            return points
+        for n in links:
+            self._link(n)  # unknown names are refused
+        wanted = set(links)
+        return [c for c in points if c.link in wanted]
+
+    def get_contact_force(self, link: str) -> np.ndarray:
+        """Total force the world exerts on ``link`` through its contacts (world frame) [N]."""
+        f = np.zeros(3)
+        for c in self.get_contacts([link]):
+            f += c.force
+        return f
+
+    def _link_names(self) -> dict:
+        if not hasattr(self, '_link_index'):
+            try:
+                self._link('')
+            except ValueError:
+                pass
+        return self._link_index

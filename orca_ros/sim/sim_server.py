@@ -60,6 +60,19 @@ class SimServer:
         self.gravity = g
         self.client.setGravity(*g)
 
+    def set_ground_friction(self, lateral: float, spinning=None, rolling=None) -> None:
+        """Friction coefficients of the ground plane (PyBullet multiplies the two bodies')."""
+        if self.plane_id is None:
+            raise RuntimeError('this world has no ground plane')
+        values = {'lateralFriction': float(lateral)}
+        if spinning is not None:
+            values['spinningFriction'] = float(spinning)
+        if rolling is not None:
+            values['rollingFriction'] = float(rolling)
+        if not all(np.isfinite(v) and v >= 0 for v in values.values()):
+            raise ValueError(f'friction coefficients must be finite and >= 0, got {values}')
+        self.client.changeDynamics(self.plane_id, -1, **values)
+
     def get_time(self) -> float:
         return self.sim_time
 
