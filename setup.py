@@ -59,6 +59,8 @@ setup(
             'orca_sim_controller_in_the_loop = orca_ros.examples.sim_controller_in_the_loop:main',
             'orca_closed_loop_demo = orca_ros.examples.closed_loop_demo:main',
             'orca_main_job = orca_ros.ros.main_job:main',
+            'bag_recorder = orca_ros.ros.bag_recorder:main',
+            'plot = orca_ros.recording.plot_command:main',
             'orca_controller = orca_ros.ros.controller_node:main',
             'pybullet_bridge = orca_ros.ros.pybullet_bridge:main',
         ],

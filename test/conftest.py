@@ -26,19 +26,31 @@ if importlib.util.find_spec('colcon_core') is None:
     collect_ignore_glob += ['test_colcon_package.py']
 
 
-@pytest.fixture(autouse=True)
-def offline_solve_budget(request, monkeypatch):
+_REAL_TIME_BUDGET = orca.Controller.default_time_budget
+
+
+@pytest.fixture(autouse=True, scope='session')
+def offline_solve_budget():
     """
-    Give the core's offline runs a 10 s wall-clock budget per cycle.
+    Give the core's offline runs a 10 s wall-clock budget per cycle, for the whole session.
 
     The default budget (one 1 ms control period of wall-clock time, turned into solver iterations)
     bounds a real-time loop; tests judging physics must not depend on the machine's load (two CPU
     burners beside the suite cut 1 ms cycles short, and even 0.1 s was preempted at a load of 9
-    on 2 cores). A test about the budget itself opts out with
-    ``@pytest.mark.real_time_budget``.
+    on 2 cores). Session scope: module-scoped fixtures (the quadruped's 19 s run) are set up
+    before any function-scoped fixture, and ran with the real-time budget when this was one.
     """
-    if request.node.get_closest_marker('real_time_budget') is None:
-        monkeypatch.setattr(orca.Controller, 'default_time_budget', 10.0)
+    patch = pytest.MonkeyPatch()
+    patch.setattr(orca.Controller, 'default_time_budget', 10.0)
+    yield
+    patch.undo()
+
+
+@pytest.fixture(autouse=True)
+def real_time_budget(request, monkeypatch):
+    """Restore the real-time budget for a test about it (``@pytest.mark.real_time_budget``)."""
+    if request.node.get_closest_marker('real_time_budget') is not None:
+        monkeypatch.setattr(orca.Controller, 'default_time_budget', _REAL_TIME_BUDGET)
 
 
 @pytest.fixture(scope='session')

@@ -12,28 +12,94 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-The main job (the demo) end to end.
+The main job (the demo) end to end, and the rosbag2 file it records, read back with rosbags.
 
 In its own module: the lockstep pair of test_ros_nodes' module fixture runs flat out until that
 module ends, and would slow this run down on a 2-core machine.
 """
 
+import os
+import subprocess
+import sys
 
-def test_main_job_reaches_every_target(tmp_path):
-    import os
-    import subprocess
-    import sys
+import numpy as np
 
+
+def test_main_job_reaches_every_target_and_records_the_run(tmp_path):
+    from rosbags.highlevel import AnyReader
+    from pathlib import Path
+
+    bag = tmp_path / 'run'
     # the timeout is a failsafe (a busy machine may take minutes), not a speed claim
     proc = subprocess.run(
-        [sys.executable, '-m', 'orca_ros.ros.main_job', '--output-dir', str(tmp_path)],
+        [sys.executable, '-m', 'orca_ros.ros.main_job', '--output-dir', str(tmp_path),
+         '--bag', str(bag)],
         capture_output=True,
         text=True,
         timeout=900,
         env=dict(os.environ, MPLBACKEND='Agg'),
     )
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
-    assert 'RESULT: every target reached' in proc.stdout
-    assert proc.stdout.count(' mm ') >= 5 and 'NOT REACHED' not in proc.stdout
-    assert (tmp_path / 'main_job_torques.png').stat().st_size > 10_000
+    out = proc.stdout
+    assert 'RESULT: every target reached' in out
+    assert out.count(' mm ') >= 5 and 'NOT REACHED' not in out
+    assert '-0.000' not in out and 'e-4' not in out.split('solve time')[0]
+    assert (tmp_path / 'main_job_run.png').stat().st_size > 50_000
     assert (tmp_path / 'main_job_path.png').stat().st_size > 10_000
+
+    expected = {
+        '/joint_states': 'sensor_msgs/msg/JointState',
+        '/effort_controller/commands': 'std_msgs/msg/Float64MultiArray',
+        '/orca_controller/tasks/ee/target_pose': 'geometry_msgs/msg/PoseStamped',
+        '/orca_controller/tasks/ee/error': 'std_msgs/msg/Float64MultiArray',
+        '/orca_controller/cycle_timing': 'std_msgs/msg/Float64MultiArray',
+        '/diagnostics': 'diagnostic_msgs/msg/DiagnosticArray',
+        '/robot_description': 'std_msgs/msg/String',
+    }
+    assert list(bag.glob('*.mcap')), 'the bag must use the MCAP storage'
+    lag, n_states, cmds, cycle_stamps, targets, counts = [], 0, [], [], set(), {}
+    with AnyReader([Path(bag)]) as reader:
+        assert {c.topic: c.msgtype for c in reader.connections} == expected
+        counts = {c.topic: c.msgcount for c in reader.connections}
+        span = (reader.end_time - reader.start_time) * 1e-9
+        for conn, stamp, raw in reader.messages():
+            msg = reader.deserialize(raw, conn.msgtype)
+            if conn.topic == '/joint_states':
+                n_states += 1
+                lag.append(stamp * 1e-9 - (msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9))
+            elif conn.topic == '/effort_controller/commands':
+                cmds.append(np.asarray(msg.data))
+            elif conn.topic == '/orca_controller/cycle_timing':
+                k = msg.layout.dim[1].size
+                cycle_stamps.extend(np.asarray(msg.data)[:k])
+            elif conn.topic.endswith('target_pose'):
+                p = msg.pose.position
+                targets.add((round(p.x, 6), round(p.y, 6), round(p.z, 6)))
+    # one command per simulated millisecond (lockstep), every one recorded (reliable QoS)
+    assert counts['/robot_description'] == 1
+    assert len(cmds) > 3000 and {c.size for c in cmds} == {7}
+    assert all(np.isfinite(c).all() and np.abs(c).max() < 200.0 for c in cmds)
+    # joint states are best effort (sensor data): a few may be lost, not a large part
+    assert n_states > 0.9 * len(cmds)
+    # bag stamps are simulated time (use_sim_time): they match the states' own stamps
+    assert np.percentile(np.abs(lag), 99) < 0.01
+    assert abs(span - len(cmds) * 1e-3) < 0.1 * span
+    assert len(targets) == 4  # the four targets of the job (each repeated until the arm moved)
+    c = np.array(cycle_stamps)
+    assert np.all(np.diff(c) > 0) and abs(c.size - len(cmds)) < 0.02 * len(cmds)
+    assert counts['/diagnostics'] >= 5 and counts['/orca_controller/tasks/ee/error'] > 100
+
+    from orca_ros.recording.plot_command import main as plot_main
+
+    png = tmp_path / 'replot.png'
+    import contextlib
+    import io
+
+    text = io.StringIO()
+    with contextlib.redirect_stdout(text):
+        assert plot_main([str(bag), '--output', str(png)]) == 0
+    report = text.getvalue()
+    assert 'solver daqp, multi_level_weighted, 1000 Hz (joint_state)' in report
+    assert 'solve time per cycle: median' in report
+    assert 'limits: no position, velocity or torque limit reached' in report
+    assert png.stat().st_size > 50_000

@@ -108,6 +108,10 @@ class ControllerDiagnostics:
         values = {
             'solver_status': self.controller.get_return_code().value,
             'solver': self.controller.solver.value,
+            'resolution_strategy': self.controller.resolution_strategy.value,
+            'update_rate_hz': f'{self.update_rate:g}',
+            'trigger': self.trigger,
+            'joints': ','.join(self.setup.joints),
             'solve_time_median_us': f'{stats["solve_median_us"]:.1f}',
             'solve_time_p99_us': f'{stats["solve_p99_us"]:.1f}',
             'loop_period_mean_ms': f'{stats["period_mean_ms"]:.3f}',

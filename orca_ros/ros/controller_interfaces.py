@@ -18,10 +18,12 @@ Per task ``<name>``: ``~/tasks/<name>/target_pose`` (geometry_msgs/PoseStamped; 
 model link, empty = the base frame) for Cartesian tasks, ``~/tasks/<name>/target``
 (sensor_msgs/JointState) for joint tasks, ``~/tasks/<name>/set_active`` (std_srvs/SetBool, ramped),
 and the feedback ``~/tasks/<name>/current_pose`` (PoseStamped) and ``~/tasks/<name>/error``
-(Float64MultiArray: pose error [linear, angular] or joint error). Node services: ``~/activate`` /
-``~/deactivate`` (Trigger: every task and constraint, ramped), ``~/enable`` (SetBool: false = hold
-with the safe command), ``~/reset_targets`` (Trigger: targets := current state). ``/diagnostics``:
-solver status, solve time, loop period and jitter, active tasks.
+(Float64MultiArray: pose error [linear, angular] or joint error), and ``~/cycle_timing``
+(Float64MultiArray, at the feedback rate: the cycles since the last message, as two rows of the
+layout ``field`` x ``cycle``: controller time [s], then solve time [s]). Node services:
+``~/activate`` / ``~/deactivate`` (Trigger: every task and constraint, ramped), ``~/enable``
+(SetBool: false = hold with the safe command), ``~/reset_targets`` (Trigger: targets := current
+state). ``/diagnostics``: solver status, solve time, loop period and jitter, active tasks.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ from __future__ import annotations
 from geometry_msgs.msg import PoseStamped
 import numpy as np
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Float64MultiArray
+from std_msgs.msg import Float64MultiArray, MultiArrayDimension
 from std_srvs.srv import SetBool, Trigger
 from trajectory_msgs.msg import MultiDOFJointTrajectoryPoint
 
@@ -77,6 +79,8 @@ class ControllerInterfaces:
         self.create_service(SetBool, '~/enable', self._on_enable)
         self.create_service(Trigger, '~/reset_targets', self._on_reset_targets)
         self.setup_diagnostics(diagnostics_rate)
+        self._timing_pub = self.create_publisher(Float64MultiArray, '~/cycle_timing', DEFAULT_QOS)
+        self._timing_sent = 0
         if feedback_rate > 0:
             self.create_timer(1.0 / feedback_rate, self._publish_feedback)
         for name, active in self.setup.initially_active.items():
@@ -286,6 +290,23 @@ class ControllerInterfaces:
             elif isinstance(task, JointAccelerationTask):
                 err.data = task.get_position_error().tolist()
             err_pub.publish(err)
+        self._publish_cycle_timing()
+
+    def _publish_cycle_timing(self) -> None:
+        total = self.solve_times.total
+        k = min(total - self._timing_sent, self.solve_times.capacity)
+        self._timing_sent = total
+        if k <= 0:
+            return
+        msg = Float64MultiArray()
+        msg.layout.dim = [
+            MultiArrayDimension(label='field', size=2, stride=2 * k),
+            MultiArrayDimension(label='cycle', size=k, stride=k),
+        ]
+        msg.data = np.concatenate(
+            (self.cycle_stamps.latest(k), self.solve_times.latest(k))
+        ).tolist()
+        self._timing_pub.publish(msg)
 
 
 def _quat_pose(q):

@@ -136,6 +136,7 @@ class OrcaControllerNode(
         # loop statistics over a bounded window (nothing grows while the node runs)
         window = int(param(self, 'statistics_window', 10000))
         self.solve_times = RingBuffer(window)
+        self.cycle_stamps = RingBuffer(window)  # controller time of each solve (cycle_timing)
         self.loop_periods = RingBuffer(window)
         # garbage collection kept out of the control cycle: after start-up, everything alive is
         # frozen out of the collector's sight and automatic collection is off; a low-rate timer
@@ -367,6 +368,7 @@ class OrcaControllerNode(
             self.say('error', 'update', f'controller update raised {type(exc).__name__}: {exc}')
             ok = False
         self.solve_times.push(time.perf_counter() - t0)
+        self.cycle_stamps.push(t)
         if not ok:
             code = self.controller.get_return_code()
             self.qp_failures += 1

@@ -17,9 +17,11 @@ The main job: the arm driven through ROS 2 exactly as a user would drive a robot
 Starts ``pybullet_bridge`` and ``orca_controller`` as separate processes (launch-free, private ROS
 domain), sends a sequence of Cartesian targets on ``~/tasks/ee/target_pose``, runs one
 ``~/deactivate`` / ``~/activate`` cycle, then prints a report (tracking error and settle time per
-target, solve time, loop rate, limit margins) and writes plots. Lockstep simulation by default
-(deterministic, faster than real time); ``--realtime`` runs the bridge at wall-clock rate with the
-controller on its timer; ``--gui`` shows PyBullet.
+target, solve time, limit margins, what saturated). The run is recorded in a rosbag2 file (MCAP:
+joint states, commands, targets, task error, solve time per cycle, diagnostics, the URDF) by
+``bag_recorder``, and drawn from that file by the ``plot`` command's code. Lockstep simulation by
+default (deterministic, faster than real time); ``--realtime`` runs the bridge at wall-clock rate
+with the controller on its timer; ``--gui`` shows PyBullet.
 """
 
 from __future__ import annotations
@@ -71,6 +73,7 @@ def main(argv=None) -> int:
     )
     ap.add_argument('--gui', action='store_true', help='show the PyBullet window')
     ap.add_argument('--output-dir', default='output')
+    ap.add_argument('--bag', help='rosbag2 directory to write [<output-dir>/run_<date-time>]')
     ap.add_argument(
         '--tolerance', type=float, default=1e-3, help='reached when within this distance [m]'
     )
@@ -80,6 +83,15 @@ def main(argv=None) -> int:
     procs = Procs(domain, tempfile.mkdtemp(prefix='orca_main_job_'))
     cfg = orca.share_path('config', 'lwr_controller.yaml')
     mode = 'free_running' if args.realtime else 'lockstep'
+    os.makedirs(args.output_dir, exist_ok=True)
+    bag = args.bag or os.path.join(args.output_dir, time.strftime('run_%Y%m%d-%H%M%S'))
+    procs.start(
+        'orca_ros.ros.bag_recorder',
+        '-p', f'output:={bag}',
+        '-p', f'use_sim_time:={"false" if args.realtime else "true"}',
+        name='recorder',
+    )
+    procs.wait_log('recorder', 'recording', timeout=60)
     procs.start(
         'orca_ros.ros.pybullet_bridge',
         '-p',
@@ -88,6 +100,8 @@ def main(argv=None) -> int:
         f'initial_positions:={Q0}',
         '-p',
         f'gui:={"true" if args.gui else "false"}',
+        '-p',
+        'start_paused:=true',  # until the recorder hears both sides
         name='bridge',
     )
     procs.start(
@@ -101,11 +115,18 @@ def main(argv=None) -> int:
     probe = Probe(domain)
     rows, path, ok = [], [], True
     try:
+        # discovery is asynchronous: the run starts once the recorder receives states and
+        # commands, so the bag holds it from its first step
+        for topic in ('/joint_states', '/effort_controller/commands'):
+            procs.wait_log('recorder', f'first message on {topic}', timeout=120)
+        from std_srvs.srv import Trigger  # noqa: PLC0415
+
+        probe.call(Trigger, '/pybullet_bridge/unpause', Trigger.Request(), timeout=60)
         probe.wait_for(
             lambda: probe.sim_time() > 1.0, 60, 'the controller driving the simulated arm'
         )
         start = probe.ee_pose()
-        n_states0, wall0 = len(probe.states), time.time()
+        sim0, wall0 = probe.sim_time(), time.time()
         targets = []
         for k, off in enumerate(OFFSETS):
             T = start.copy()
@@ -118,35 +139,29 @@ def main(argv=None) -> int:
             rows.append((f'target {k + 1}', T[:3, 3], err, settle))
         # one deactivate / activate cycle: everything ramps out (the arm holds with gravity), then
         # back in
-        from std_srvs.srv import Trigger  # noqa: PLC0415
-
         probe.call(Trigger, '/orca_controller/deactivate', Trigger.Request())
         probe.wait_sim(1.5)
         probe.call(Trigger, '/orca_controller/activate', Trigger.Request())
         settle = _wait_reached(probe, targets[-1], args.tolerance, 6.0)
         err = np.linalg.norm(probe.ee_pose()[:3, 3] - targets[-1][:3, 3])
         rows.append(('after deactivate/activate', targets[-1][:3, 3], err, settle))
-        loop_rate = (len(probe.states) - n_states0) / (time.time() - wall0)
+        sim_rate = (probe.sim_time() - sim0) / (time.time() - wall0)
         time.sleep(0.5)  # one more diagnostics message
         diag = dict(probe.diagnostics)
         with probe.lock:
             states = list(probe.states)
-            commands = np.array(probe.commands)
     except AssertionError as exc:
         print(f'main job failed: {exc}')
         print(procs.log('controller')[-2000:])
         return 1
     finally:
         probe.close()
-        procs.stop()
+        procs.stop()  # the recorder closes the bag on SIGTERM
 
     robot = probe.robot
-    qlo, qhi = robot.get_joint_position_limits()
     q = np.array([s[1] for s in states])
-    v = np.array([s[2] for s in states])
     t = np.array([s[0] for s in states])
     path = np.array([probe.ee_pose(qi)[:3, 3] for qi in q[::20]])
-    tau_max = robot.get_joint_torque_limits()
     print(
         '=== orca_ros main job: 7-DoF arm through ROS 2 (pybullet_bridge + orca_controller, '
         f'{"real time" if args.realtime else "lockstep"}) ==='
@@ -155,9 +170,9 @@ def main(argv=None) -> int:
     for name, p, err, settle in rows:
         reached = err < args.tolerance
         ok &= reached
+        where = ' '.join(f'{round(x, 3) + 0.0:+.3f}' for x in p)  # no '-0.000'
         print(
-            f'{name:<28}{np.array2string(p, precision=3):<28}{err * 1e3:>10.3f} mm{settle:>11.2f} '
-            's'
+            f'{name:<28}{where:<28}{err * 1e3:>10.3f} mm{settle:>11.2f} s'
             f'{"" if reached else "   NOT REACHED"}'
         )
     print(
@@ -165,32 +180,27 @@ def main(argv=None) -> int:
         f'{diag.get("solve_time_p99_us", "?")} us'
         f' ({diag.get("solver", "?")}); solver status {diag.get("solver_status", "?")}'
     )
-    print(
-        f'loop rate achieved: {loop_rate:.0f} Hz (nominal 1000 '
-        f'Hz{", simulated time runs faster in lockstep" if not args.realtime else ""})'
-    )
-    print(
-        f'limit margins: position {np.min(np.minimum(q - qlo, qhi - q)):.3f} rad, velocity '
-        f'{1.5 - np.abs(v).max():.3f} rad/s (limit 1.5), torque '
-        f'{np.min(tau_max - np.abs(commands)):.1f} Nm'
-    )
-    os.makedirs(args.output_dir, exist_ok=True)
-    import matplotlib  # noqa: PLC0415
+    if args.realtime:
+        print(
+            f'control loop: mean period {diag.get("loop_period_mean_ms", "?")} ms '
+            f'(nominal 1 ms), p99 {diag.get("loop_period_p99_ms", "?")} ms'
+        )
+    else:
+        print(
+            f'lockstep: one control cycle per 1 ms simulation step; simulated time ran at '
+            f'{sim_rate:.2f}x wall-clock time'
+        )
+    from ..recording import read_run  # noqa: PLC0415
+    from ..recording.run_plots import plot_run  # noqa: PLC0415
+    from ..recording.run_report import report  # noqa: PLC0415
 
-    matplotlib.use('Agg')
-    import matplotlib.pyplot as plt  # noqa: PLC0415
+    run = read_run(bag)
+    for line in report(run)[1:]:
+        print(line)
+    print(f'recorded: {bag} ({", ".join(f"{k} {n}" for k, n in sorted(run.counts.items()))})')
+    p1 = plot_run(run, os.path.join(args.output_dir, 'main_job_run.png'))
+    import matplotlib.pyplot as plt  # noqa: PLC0415 (plot_run chose the backend)
 
-    fig, ax = plt.subplots(figsize=(9, 5))
-    for j in range(commands.shape[1]):
-        ax.plot(commands[:, j], lw=0.8, label=f'joint_{j}')
-    ax.set_xlabel('control cycle')
-    ax.set_ylabel('commanded torque [Nm]')
-    ax.legend(ncol=4, fontsize=8)
-    ax.grid(True)
-    fig.tight_layout()
-    p1 = os.path.join(args.output_dir, 'main_job_torques.png')
-    fig.savefig(p1, dpi=100)
-    plt.close(fig)
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.5))
     tg = np.array([r[1] for r in rows])
     axes[0].plot(path[:, 0], path[:, 1], lw=1, label='end effector')
@@ -200,15 +210,16 @@ def main(argv=None) -> int:
     axes[0].axis('equal')
     axes[0].legend()
     axes[1].plot(t[::20] - t[0], path[:, 2], lw=1)
-    axes[1].set_xlabel('simulated time [s]')
+    axes[1].set_xlabel('time [s]')
     axes[1].set_ylabel('z [m]')
     for ax in axes:
         ax.grid(True)
+    fig.suptitle(f'end-effector path, {robot.name}, {len(rows) - 1} targets', fontsize=10)
     fig.tight_layout()
     p2 = os.path.join(args.output_dir, 'main_job_path.png')
     fig.savefig(p2, dpi=100)
     plt.close(fig)
-    print(f'plots: {p1}, {p2}')
+    print(f'plots: {p1}, {p2}  (any bag: plot <bag>)')
     print(f'wall time {time.time() - t_wall0:.1f} s')
     print('RESULT:', 'every target reached' if ok else 'FAILED')
     return 0 if ok else 1

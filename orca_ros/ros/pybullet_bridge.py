@@ -151,7 +151,8 @@ class PyBulletBridge(GuardedNode):
                 float(param(self, 'hold_damping', 20.0)),
                 float(param(self, 'hold_ramp', 0.05)),
             )
-        self.paused = False
+        # start_paused: nothing moves until ~/unpause (e.g. once a recorder is listening)
+        self.paused = bool(param(self, 'start_paused', False))
         self._cmd = np.zeros(len(joints))
         self._last_cmd_time = None
 

@@ -27,6 +27,7 @@ PIP = {
     'proxsuite': 'proxsuite==0.8.0',
     'ruckig': 'ruckig==0.19.4',
     'pybullet': 'pybullet==3.2.7',
+    'rosbags': 'rosbags==0.11.9',
 }
 
 
@@ -40,6 +41,7 @@ def optional_import(name: str, purpose: str, alternative: str = ''):
         return importlib.import_module(name)
     except ImportError as exc:
         hint = f' ({alternative})' if alternative else ''
+        top = name.split('.')[0]
         raise MissingDependency(
-            f"{purpose} needs the Python package '{name}': pip install {PIP.get(name, name)}{hint}"
+            f"{purpose} needs the Python package '{top}': pip install {PIP.get(top, top)}{hint}"
         ) from exc
