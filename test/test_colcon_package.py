@@ -65,7 +65,7 @@ def workspace(tmp_path_factory):
 
 def test_colcon_install_layout(workspace):
     prefix = workspace / 'install' / 'orca_ros'
-    for exe in ('orca_controller', 'pybullet_bridge'):
+    for exe in ('orca_controller', 'pybullet_bridge', 'bag_recorder', 'plot', 'orca_main_job'):
         path = prefix / 'lib' / 'orca_ros' / exe
         assert path.is_file() and os.access(path, os.X_OK), f'missing executable {path}'
     assert (

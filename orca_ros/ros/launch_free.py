@@ -43,11 +43,12 @@ def free_domain_id() -> int:
     return d
 
 
-def ros_env(domain: int) -> dict:
+def ros_env(domain: int, local_only: bool = True) -> dict:
+    """Environment of a launched node: its domain, and discovery on this machine only."""
     env = dict(os.environ)
-    env.update(
-        ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE='LOCALHOST', PYTHONUNBUFFERED='1'
-    )
+    env.update(ROS_DOMAIN_ID=str(domain), PYTHONUNBUFFERED='1')
+    if local_only:
+        env['ROS_AUTOMATIC_DISCOVERY_RANGE'] = 'LOCALHOST'
     return env
 
 
@@ -63,14 +64,21 @@ def _die_with_parent():
 
 
 class Procs:
-    def __init__(self, domain: int, tmp_path):
+    def __init__(self, domain: int, tmp_path, local_only: bool = True):
         self.domain, self.tmp, self.procs = domain, tmp_path, []
+        self.local_only = local_only
 
-    def start(self, module: str, *ros_args: str, name: str):
+    def start(self, module: str, *ros_args: str, name: str, prefix=(), env=None):
+        """
+        Start ``python -m module --ros-args ...``, its output in ``<name>.log``.
+
+        ``prefix``: a command the process runs under (e.g. ``ip netns exec <ns>``); ``env``:
+        variables added to the node's environment.
+        """
         log = open(os.path.join(self.tmp, f'{name}.log'), 'w')
         p = subprocess.Popen(
-            [sys.executable, '-m', module, '--ros-args', *ros_args],
-            env=ros_env(self.domain),
+            [*prefix, sys.executable, '-m', module, '--ros-args', *ros_args],
+            env={**ros_env(self.domain, self.local_only), **(env or {})},
             stdout=log,
             stderr=subprocess.STDOUT,
             # a killed parent (a test's timeout, Ctrl-C) leaves no node running on its domain

@@ -64,34 +64,10 @@ def _wait_reached(probe, target, tol, timeout_sim):
     return float('nan')
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(
-        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
-    )
-    ap.add_argument(
-        '--realtime', action='store_true', help='free-running bridge at wall-clock rate'
-    )
-    ap.add_argument('--gui', action='store_true', help='show the PyBullet window')
-    ap.add_argument('--output-dir', default='output')
-    ap.add_argument('--bag', help='rosbag2 directory to write [<output-dir>/run_<date-time>]')
-    ap.add_argument(
-        '--tolerance', type=float, default=1e-3, help='reached when within this distance [m]'
-    )
-    args = ap.parse_args(argv)
-    t_wall0 = time.time()
-    domain = free_domain_id()
-    procs = Procs(domain, tempfile.mkdtemp(prefix='orca_main_job_'))
-    cfg = orca.share_path('config', 'lwr_controller.yaml')
-    mode = 'free_running' if args.realtime else 'lockstep'
-    os.makedirs(args.output_dir, exist_ok=True)
-    bag = args.bag or os.path.join(args.output_dir, time.strftime('run_%Y%m%d-%H%M%S'))
-    procs.start(
-        'orca_ros.ros.bag_recorder',
-        '-p', f'output:={bag}',
-        '-p', f'use_sim_time:={"false" if args.realtime else "true"}',
-        name='recorder',
-    )
-    procs.wait_log('recorder', 'recording', timeout=60)
+def _launch_robot(procs, args, mode: str, cfg: str) -> None:
+    """Start the simulated arm (paused until the recorder hears it) and its controller."""
+    if args.attach:
+        return
     procs.start(
         'orca_ros.ros.pybullet_bridge',
         '-p',
@@ -112,6 +88,46 @@ def main(argv=None) -> int:
         f'trigger:={"timer" if args.realtime else "joint_state"}',
         name='controller',
     )
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    ap.add_argument(
+        '--realtime', action='store_true', help='free-running bridge at wall-clock rate'
+    )
+    ap.add_argument('--gui', action='store_true', help='show the PyBullet window')
+    ap.add_argument('--output-dir', default='output')
+    ap.add_argument('--bag', help='rosbag2 directory to write [<output-dir>/run_<date-time>]')
+    ap.add_argument(
+        '--tolerance', type=float, default=1e-3, help='reached when within this distance [m]'
+    )
+    ap.add_argument(
+        '--attach',
+        action='store_true',
+        help='start no bridge or controller: drive the ones already running on ROS_DOMAIN_ID '
+        '(other machines included); the recorder runs here',
+    )
+    args = ap.parse_args(argv)
+    t_wall0 = time.time()
+    if args.attach:  # the user's domain and discovery range (e.g. SUBNET across machines)
+        domain = int(os.environ.get('ROS_DOMAIN_ID', '0'))
+    else:
+        domain = free_domain_id()
+    procs = Procs(domain, tempfile.mkdtemp(prefix='orca_main_job_'), local_only=not args.attach)
+    cfg = orca.share_path('config', 'lwr_controller.yaml')
+    mode = 'free_running' if args.realtime else 'lockstep'
+    os.makedirs(args.output_dir, exist_ok=True)
+    bag = args.bag or os.path.join(args.output_dir, time.strftime('run_%Y%m%d-%H%M%S'))
+    procs.start(
+        'orca_ros.ros.bag_recorder',
+        '-p', f'output:={bag}',
+        '-p', f'use_sim_time:={"false" if args.realtime else "true"}',
+        name='recorder',
+    )
+    procs.wait_log('recorder', 'recording', timeout=60)
+    _launch_robot(procs, args, mode, cfg)
     probe = Probe(domain)
     rows, path, ok = [], [], True
     try:
@@ -121,9 +137,14 @@ def main(argv=None) -> int:
             procs.wait_log('recorder', f'first message on {topic}', timeout=120)
         from std_srvs.srv import Trigger  # noqa: PLC0415
 
-        probe.call(Trigger, '/pybullet_bridge/unpause', Trigger.Request(), timeout=60)
+        if not args.attach:
+            probe.call(Trigger, '/pybullet_bridge/unpause', Trigger.Request(), timeout=60)
+        probe.wait_for(lambda: probe.sim_time() >= 0.0, 60, 'joint states of the arm')
+        t_start = probe.sim_time()
         probe.wait_for(
-            lambda: probe.sim_time() > 1.0, 60, 'the controller driving the simulated arm'
+            lambda: probe.sim_time() > t_start + 1.0,
+            60,
+            'the controller driving the simulated arm',
         )
         start = probe.ee_pose()
         sim0, wall0 = probe.sim_time(), time.time()
