@@ -11,7 +11,9 @@ fi
 # shellcheck disable=SC1091
 source "$VENV/bin/activate"
 STAMP="$VENV/.orca_requirements.sha256"
-WANT="$(cat "$ROOT/requirements.txt" "$ROOT/setup.py" | sha256sum | cut -d' ' -f1)"
+# the checkout is part of the stamp: a venv shared by two checkouts (ORCA_VENV) must import the
+# package of the one running, not of the one that installed it last
+WANT="$( (cat "$ROOT/requirements.txt" "$ROOT/setup.py"; echo "$ROOT") | sha256sum | cut -d' ' -f1)"
 if [ ! -f "$STAMP" ] || [ "$(cat "$STAMP")" != "$WANT" ]; then
   python -m pip install --quiet --upgrade pip
   python -m pip install --quiet -r "$ROOT/requirements.txt"
