@@ -32,10 +32,10 @@ Task types: ``cartesian`` (frame, kp[6|1], kd, ki, target_position, target_rpy),
 active [true], selection, level [0] and, with the ``generalized`` strategy, ``priority_over``
 {<lower task>: value in [0, 1]} [1: strict]. Task ``com``: kp, kd, target (world). Contacts (in
 ``constraints``): ``contact`` (frame, offset, friction_coefficient, margin, faces, normal,
-max_normal_force, min_normal_force), ``bilateral_contact`` (frame, other_frame). Constraint types:
-``joint_torque_limit`` (max or min/max [URDF]), ``joint_position_limit`` (horizon, min/max [URDF]),
-``joint_velocity_limit`` (horizon, max [URDF]), ``joint_acceleration_limit`` (max); all take ramp
-and active [true].
+max_normal_force, min_normal_force, velocity_gain [0 1/s]), ``bilateral_contact`` (frame,
+other_frame). Constraint types: ``joint_torque_limit`` (max or min/max [URDF]),
+``joint_position_limit`` (horizon, min/max [URDF]), ``joint_velocity_limit`` (horizon, max [URDF]),
+``joint_acceleration_limit`` (max); all take ramp and active [true].
 """
 
 from __future__ import annotations
@@ -234,6 +234,8 @@ def _make_contact(name: str, cc: dict):
             c.set_maximum_normal_force(float(cc['max_normal_force']))
         if 'min_normal_force' in cc:
             c.set_minimum_normal_force(float(cc['min_normal_force']))
+        if 'velocity_gain' in cc:
+            c.set_velocity_feedback_gain(float(cc['velocity_gain']))
         return c
     except (ValueError, TypeError) as exc:
         raise ConfigError(f"contact '{name}': {exc}") from None

@@ -82,6 +82,20 @@ class ContactBase(GenericConstraint):
         self.wrench_upper = np.zeros(6)
         self.existence = None
         self.last_wrench = np.zeros(6)
+        self.velocity_gain = 0.0  # 1/s: existence condition J nu_dot + J_dot nu = -gain J nu
+
+    def set_velocity_feedback_gain(self, gain: float) -> None:
+        """
+        Make a contact that moves come to rest: J nu_dot + J_dot nu = -gain * J nu.
+
+        0 only stops it from accelerating, so a contact set sliding (a push, an impact) keeps
+        sliding. The slip then decays with time constant 1 / gain [s]; keep 1 / gain several
+        control periods long.
+        """
+        gain = float(gain)
+        if not (np.isfinite(gain) and gain >= 0.0):
+            raise ValueError(f"contact '{self.name}': velocity gain must be >= 0, got {gain}")
+        self.velocity_gain = gain
 
     def set_contact_frame(self, frame: str) -> None:
         if self.robot is not None:
@@ -274,8 +288,9 @@ class ContactExistenceCondition(GenericConstraint):
     """
     While its contact is on, the contact does not move.
 
-    J nu_dot + J_dot nu = 0 on the rows the contact gives (:meth:`existence_terms`: the point's
-    linear rows, or the 6 relative rows of a bilateral contact).
+    J nu_dot + J_dot nu = -gain J nu on the rows the contact gives (:meth:`existence_terms`: the
+    point's linear rows, or the 6 relative rows of a bilateral contact; ``gain``: the contact's
+    :meth:`ContactBase.set_velocity_feedback_gain`, 0 by default).
     """
 
     kind = 'equality'
@@ -299,7 +314,10 @@ class ContactExistenceCondition(GenericConstraint):
             return
         J, bias = self.contact.existence_terms()
         self.C[:, self.layout.acc] = J
-        self.lb[:] = -bias
+        np.negative(bias, out=self.lb)
+        gain = self.contact.velocity_gain
+        if gain > 0.0:
+            self.lb -= gain * (J @ self.contact.robot.get_generalized_velocity())
         self.ub[:] = self.lb
 
 

@@ -359,6 +359,10 @@ class RobotModel:
     def get_joint_velocities(self) -> np.ndarray:
         return self._v.copy()
 
+    def get_generalized_velocity(self) -> np.ndarray:
+        """Return nu in Pinocchio's convention (a view, valid until the next state change)."""
+        return self._v_pin
+
     def get_world_to_base_transform(self) -> np.ndarray:
         state_input.sync_base(self)
         return self._world_H_base.copy()

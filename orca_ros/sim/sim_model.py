@@ -400,6 +400,27 @@ class SimModel:
         wanted = set(links)
         return [c for c in points if c.link in wanted]
 
+    def apply_external_force(self, link: str, force, position=None) -> None:
+        """
+        Push ``link`` with a world-frame force [N] during the next step (a push, a tug).
+
+        Applied at ``position`` (world frame) or at the link frame's origin. PyBullet forgets
+        external forces after each step: call it before every step of the push.
+        """
+        f = np.asarray(force, dtype=float).reshape(3)
+        if not np.isfinite(f).all():
+            raise ValueError(f'external force must be finite, got {force!r}')
+        index = self._link(link)
+        if position is None:
+            position = (
+                self.get_world_to_base_transform()[:3, 3]
+                if index == -1
+                else self.get_link_position(link)
+            )
+        self.client.applyExternalForce(
+            self.body, index, f.tolist(), list(map(float, position)), pybullet.WORLD_FRAME
+        )
+
     def get_contact_force(self, link: str) -> np.ndarray:
         """Total force the world exerts on ``link`` through its contacts (world frame) [N]."""
         f = np.zeros(3)
