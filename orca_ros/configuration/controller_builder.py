@@ -34,8 +34,8 @@ active [true], selection, level [0] and, with the ``generalized`` strategy, ``pr
 ``constraints``): ``contact`` (frame, offset, friction_coefficient, margin, faces, normal,
 max_normal_force, min_normal_force, velocity_gain [0 1/s]), ``bilateral_contact`` (frame,
 other_frame). Constraint types: ``joint_torque_limit`` (max or min/max [URDF]),
-``joint_position_limit`` (horizon, min/max [URDF]), ``joint_velocity_limit`` (horizon, max [URDF]),
-``joint_acceleration_limit`` (max); all take ramp and active [true].
+``joint_position_limit`` (horizon, max_acceleration [5], min/max [URDF]), ``joint_velocity_limit``
+(horizon, max [URDF]), ``joint_acceleration_limit`` (max); all take ramp and active [true].
 """
 
 from __future__ import annotations
@@ -182,6 +182,8 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         c = controller.add_constraint(CONSTRAINT_TYPES[cc['type']], name)
         if 'horizon' in cc:
             c.set_horizon(float(cc['horizon']))
+        if 'max_acceleration' in cc and cc['type'] == 'joint_position_limit':
+            c.set_max_acceleration(_vec(cc['max_acceleration'], n, f'{name}.max_acceleration'))
         if 'max' in cc or 'min' in cc:
             default = c.get_limits()
             hi = _vec(cc['max'], n, f'{name}.max') if 'max' in cc else default[1]

@@ -14,11 +14,22 @@
 """
 Joint torque, position, velocity and acceleration limits.
 
-Position and velocity limits are turned into acceleration bounds by predicting the motion over a
-horizon h:
-    q + h v + h^2/2 a in [q_min, q_max]   ->  a in 2/h^2 [q_min - q - h v, q_max - q - h v]
+Position and velocity limits are turned into acceleration bounds. Velocities over a horizon h
+(never shorter than the control period dt):
     v + h a in [v_min, v_max]              ->  a in 1/h [v_min - v, v_max - v]
-Position and velocity limits default to the URDF's values; torque limits to the URDF's efforts.
+Positions, *viable* in discrete time (after Del Prete, RA-L 2018), for the step the robot takes
+under a constant acceleration over dt (q' = q + dt v + dt^2/2 a, v' = v + dt a), with A the
+deceleration the joint can always produce (``set_max_acceleration``):
+* the next position stays within the limits: a <= 2 (q_max - q - dt v) / dt^2 (and below);
+* the next state can still stop before the limit at deceleration A: v'^2 <= 2 A (q_max - q') when
+  v' > 0, a quadratic inequality in a (and mirrored at q_min);
+* a smoother approach over the horizon h, q + h v + h^2/2 a <= q_max, only as far as it asks for
+  no more than A.
+A state that satisfies the viability condition keeps a = -A admissible for both the next step and
+the one after (so the bounds are never empty and a braking joint never needs more than A), and
+the one-step bound is exact: no excursion at all. A state that does not (started close to a limit,
+pushed) brakes at A; only the one-step bound may then ask for more. Position and velocity limits
+default to the URDF's values; torque limits to the URDF's efforts.
 """
 
 from __future__ import annotations
@@ -82,27 +93,66 @@ class JointTorqueLimitConstraint(_SymmetricLimitsMixin, GenericConstraint):
 
 
 class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
-    def __init__(self, name: str, horizon: float = 0.05):
+    def __init__(self, name: str, horizon: float = 0.05, max_acceleration: float = 5.0):
         super().__init__(name)
         self._limits = None
         self.set_horizon(horizon)
+        self.set_max_acceleration(max_acceleration)
 
     def set_horizon(self, horizon: float) -> None:
         if not horizon > 0.0:
             raise ValueError(f"constraint '{self.name}': prediction horizon must be > 0 s")
         self.horizon = float(horizon)
 
+    def set_max_acceleration(self, value) -> None:
+        """
+        Deceleration A every joint can always produce [rad/s^2 or m/s^2], scalar or per joint.
+
+        The viability bound keeps each joint able to stop at A before its limits; A must be within
+        what the torque limits allow in every posture, or braking may need more torque than there
+        is.
+        """
+        a = np.asarray(value, dtype=float)
+        if not (np.all(np.isfinite(a)) and np.all(a > 0.0)):
+            raise ValueError(
+                f"constraint '{self.name}': max acceleration must be finite and > 0, got {value}"
+            )
+        self.max_acceleration = a
+
     def _default_limits(self):
         return self.robot.get_joint_position_limits()
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
-        h = max(self.horizon, dt)
         robot = self.robot
-        pred = robot._q + h * robot._v
-        k = 2.0 / (h * h)
+        q, v = robot._q, robot._v
         lo, hi = self._limits
-        np.multiply(lo - pred, k, out=self.lb)
-        np.multiply(hi - pred, k, out=self.ub)
+        acc = self.max_acceleration
+        with np.errstate(invalid='ignore'):  # infinite limits give infinite bounds
+            self.ub[:] = _viable_upper(hi - q, v, dt, acc, max(self.horizon, dt))
+            self.lb[:] = -_viable_upper(q - lo, -v, dt, acc, max(self.horizon, dt))
+
+
+def _viable_upper(room, v, dt, acc, h):
+    """
+    Return the largest admissible acceleration towards an upper limit ``room`` away.
+
+    ``room`` = q_max - q (>= 0 when within the limit), ``v`` the velocity towards it.
+    """
+    step = 2.0 * (room - dt * v) / (dt * dt)  # next position within the limit
+    # v'^2 <= 2 A (room - dt v - dt^2/2 a) with v' = v + dt a >= 0:
+    # dt^2 a^2 + (2 v dt + A dt^2) a + v^2 - 2 A (room - dt v) <= 0
+    b = 2.0 * v * dt + acc * dt * dt
+    c = v * v - 2.0 * acc * (room - dt * v)
+    disc = b * b - 4.0 * dt * dt * c
+    root = (-b + np.sqrt(np.maximum(disc, 0.0))) / (2.0 * dt * dt)
+    stop = -v / dt  # accelerations at or below this end the step at rest or moving away
+    viable = np.where(disc >= 0.0, np.maximum(root, stop), stop)
+    smooth = 2.0 * (room - h * v) / (h * h)
+    # neither asks for more than A: in a viable state the viability bound never does; in a state
+    # that is not (a start close to the limit, a push) it brakes at A rather than demanding a stop
+    # within one step, which the torque limits may not allow; only the next position is exact
+    out = np.minimum(step, np.maximum(np.minimum(viable, smooth), -acc))
+    return np.where(np.isfinite(room), out, np.inf)
 
 
 class JointVelocityLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
