@@ -33,11 +33,12 @@ from orca_ros.sim import SimServer
 import pytest
 
 
-def _push(gain: float, force: float = 100.0, duration: float = 0.1, seconds: float = 2.0):
+def _push(gain=None, force: float = 100.0, duration: float = 0.1, seconds: float = 2.0):
     robot = make_robot()
     qc = QuadrupedController(robot, 'daqp')
-    for leg in LEGS:
-        qc.contacts[leg].set_velocity_feedback_gain(gain)
+    if gain is not None:  # None: the default
+        for leg in LEGS:
+            qc.contacts[leg].set_velocity_feedback_gain(gain)
     home = np.array([0.0, 0.0, STAND_HEIGHT])
     failures, slide, feet0 = 0, 0.0, None
     with SimServer(time_step=0.001) as server:

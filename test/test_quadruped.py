@@ -199,7 +199,9 @@ def test_equality_only_problem_with_contacts_matches_full_kkt(solver):
     g = -sum(w * E.T @ f for w, E, f in blocks)
     S_T = np.vstack((Z(6, n), np.eye(n)))
     A = np.vstack((np.hstack((M, -S_T, -Jc.T)), np.hstack((Jc, Z(nw, n), Z(nw, nw)))))
-    b = np.concatenate((-h, -bc))
+    # the existence condition brings a moving contact to rest: J nu_dot + J_dot nu = -k J nu
+    k = min(feet[0].velocity_gain, 0.5 / 0.001)
+    b = np.concatenate((-h, -bc - k * (Jc @ robot._v_pin)))
     K = np.block([[H, A.T], [A, Z(A.shape[0], A.shape[0])]])
     chi = np.linalg.solve(K, np.concatenate((-g, b)))[: nv + n + nw]
     sol = c.get_solution()  # [nu_dot, base torque (0), tau, w]

@@ -67,6 +67,11 @@ def point_terms(robot, frame_id: int, offset):
     return T[:3, 3] + r, Jp, v, a
 
 
+# 1/s. 0: as a default, 200 /s made the lockstep quadruped's first contact cycle infeasible (feet
+# landing: the hard equality asked for more friction than the cones allow)
+DEFAULT_VELOCITY_GAIN = 0.0
+
+
 class ContactBase(GenericConstraint):
     """Something that owns an external wrench variable (point, surface or bilateral contact)."""
 
@@ -82,7 +87,8 @@ class ContactBase(GenericConstraint):
         self.wrench_upper = np.zeros(6)
         self.existence = None
         self.last_wrench = np.zeros(6)
-        self.velocity_gain = 0.0  # 1/s: existence condition J nu_dot + J_dot nu = -gain J nu
+        # 1/s: existence condition J nu_dot + J_dot nu = -gain J nu (capped at 0.5 / dt)
+        self.velocity_gain = DEFAULT_VELOCITY_GAIN
 
     def set_velocity_feedback_gain(self, gain: float) -> None:
         """
@@ -315,7 +321,8 @@ class ContactExistenceCondition(GenericConstraint):
         J, bias = self.contact.existence_terms()
         self.C[:, self.layout.acc] = J
         np.negative(bias, out=self.lb)
-        gain = self.contact.velocity_gain
+        # at most half the slip removed per control period: gain * dt >= 1 would overshoot
+        gain = min(self.contact.velocity_gain, 0.5 / dt) if dt > 0.0 else 0.0
         if gain > 0.0:
             self.lb -= gain * (J @ self.contact.robot.get_generalized_velocity())
         self.ub[:] = self.lb
