@@ -181,6 +181,12 @@ def test_diagnostics_error_on_failing_qp(tmp_path):
         probe.wait_for(lambda: len(probe.commands) > 50, 60, 'commands')
         level, message = _level_after_fault(probe)
         assert level == 2 and 'no QP solution' in message, message
+        # the node says which constraints conflict (diagnose(), once per failing spell)
+        procs.wait_log('controller', 'QP failure diagnosis: infeasible: conflicting constraints')
+        line = [ln for ln in procs.log('controller').splitlines() if 'diagnosis' in ln][0]
+        assert 'torque_limit' in line, line
+        probe.wait_for(lambda: 'torque_limit' in probe.diagnostics.get('qp_conflict', ''), 30,
+                       'the conflict in /diagnostics')
         cmds = np.array(probe.commands)
         assert np.isfinite(cmds).all() and (np.abs(cmds) <= 176.0).all()
     finally:

@@ -29,6 +29,7 @@ import numpy as np
 
 from .cycle_plan import CyclePlan
 from .describe import describe_controller
+from .diagnosis import diagnose
 from .generalized import GeneralizedPriorities
 from .lower_level_problem import LowerLevelProblem
 from .problem_layout import ProblemLayout
@@ -476,6 +477,10 @@ class Controller:
 
     def get_return_code(self) -> ReturnCode:
         return self._return_code
+
+    def diagnose(self):
+        """Name the constraints that conflict in the last cycle (:mod:`.diagnosis`; ms)."""
+        return diagnose(self)
 
     def get_joint_torque_command(self) -> np.ndarray:
         """Joint torques to send (gravity/Coriolis removed if asked)."""

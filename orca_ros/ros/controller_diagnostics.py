@@ -126,6 +126,7 @@ class ControllerDiagnostics:
             'solver_budget': self._budget_text(),
             'active_tasks': ','.join(active),
             'enabled': str(self._enabled),
+            'qp_conflict': self.qp_conflict,
         }
         st.values = [KeyValue(key=k, value=v) for k, v in values.items()]
         arr = DiagnosticArray()

@@ -56,6 +56,7 @@ from .joint_state_input import JointStateInput, StateRejected
 from .live_parameters import LiveParameters
 from .target_smoothing import TargetSmoothing
 from ..configuration import build_from_config
+from ..optim.diagnosis import diagnose
 from ..safety import SafeCommand
 from ..utils.ring_buffer import RingBuffer
 
@@ -133,6 +134,8 @@ class OrcaControllerNode(
         self._safe_reason = None
         self._safe_cause = None
         self.qp_failures = 0
+        self._diagnosed = False
+        self.qp_conflict = ''  # what diagnose() said of the last failing spell
         # loop statistics over a bounded window (nothing grows while the node runs)
         window = int(param(self, 'statistics_window', 10000))
         self.solve_times = RingBuffer(window)
@@ -373,6 +376,9 @@ class OrcaControllerNode(
             code = self.controller.get_return_code()
             self.qp_failures += 1
             self._publish_safe(t, 'safe:qp', f'no QP solution ({code.value})')
+            if not self._diagnosed:  # once per failing spell, after the safe command went out
+                self._diagnosed = True
+                self._diagnose_failure()
             return
         cmd = self.controller.get_joint_torque_command()
         if not np.isfinite(cmd).all():
@@ -382,8 +388,17 @@ class OrcaControllerNode(
             self.say('info', 'recovered', f'recovered from: {self._safe_reason}')
             self._safe_reason = None
             self._safe_cause = None
+            self._diagnosed = False
             self.safe.reset()
         self._publish(np.clip(cmd, -self.safe.limit, self.safe.limit))
+
+    def _diagnose_failure(self) -> None:
+        """Name the constraints that conflict (a few ms, once per failing spell)."""
+        try:
+            self.qp_conflict = diagnose(self.controller).text()
+        except Exception as exc:  # noqa: BLE001 - the diagnosis must not make things worse
+            self.qp_conflict = f'diagnosis failed: {type(exc).__name__}: {exc}'
+        self.say('warning', 'diagnosis', f'QP failure diagnosis: {self.qp_conflict}')
 
     def on_callback_error(self, what: str, exc: Exception) -> None:
         """
