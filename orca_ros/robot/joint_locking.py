@@ -93,3 +93,66 @@ class LockedJoints:
     def moved(self, positions) -> bool:
         """Whether ``positions`` differ from the welded ones by more than the tolerance."""
         return bool(np.any(np.abs(positions - self.positions) > self.tolerance))
+
+
+class JointLockingMixin:
+    """The locking API of :class:`~orca_ros.robot.RobotModel` (its model, state and frames)."""
+
+    def lock_joints(self, names, positions=None, tolerance: float = 1e-4) -> None:
+        """
+        Weld the named joints at ``positions``: the model then has only the other joints.
+
+        For joints another controller drives (a gripper's fingers): they stay in the model at
+        the position :meth:`set_locked_joint_positions` last gave, and the controller never
+        commands them. Call it before tasks and constraints are added (their sizes follow). An
+        empty list restores the full model.
+        """
+        self._require_model()
+        full = self._locked.full_model if self._locked is not None else self.model
+        base_frame, gravity = self._base_frame, self._gravity.copy()
+        if not list(names):
+            self._locked = None
+            self._setup(full, self.floating_base)
+        else:
+            locked = LockedJoints(full, names, tolerance)
+            if positions is not None:
+                locked.positions = locked.checked(positions)
+            self._setup(locked.reduced_model(), self.floating_base)
+            self._locked = locked
+        if self.frame_exists(base_frame):
+            self.set_base_frame(base_frame)
+        self.set_gravity(gravity)
+
+    def set_locked_joint_positions(self, positions) -> bool:
+        """
+        Measured positions of the locked joints (order of :meth:`get_locked_joint_names`).
+
+        The model is welded again when one moved by more than the tolerance (True then); the
+        state set with :meth:`set_robot_state` is kept.
+        """
+        locked = self._locked
+        if locked is None:
+            raise RuntimeError(f"robot '{self.name}' has no locked joints")
+        x = locked.checked(positions)
+        if not locked.moved(x):
+            return False
+        model = locked.reduced_model(x)
+        model.gravity.linear = self._gravity
+        self.model = model
+        self.data = model.createData()
+        self._gravity_data = model.createData()
+        self._com = None
+        self.set_base_frame(self._base_frame)  # clears the frame cache
+        self._stamp += 1
+        return True
+
+    def get_locked_joint_names(self) -> list[str]:
+        return [] if self._locked is None else list(self._locked.names)
+
+    def get_locked_joint_positions(self) -> np.ndarray:
+        return np.zeros(0) if self._locked is None else self._locked.positions.copy()
+
+    def get_locked_joint_position_limits(self):
+        if self._locked is None:
+            return np.zeros(0), np.zeros(0)
+        return self._locked.lower.copy(), self._locked.upper.copy()

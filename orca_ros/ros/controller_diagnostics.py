@@ -34,6 +34,7 @@ import numpy as np
 
 from .common import DEFAULT_QOS, param
 from .health import assess, TaskErrorWatch
+from ..optim.diagnosis import diagnose
 
 _LEVEL = {0: DiagnosticStatus.OK, 1: DiagnosticStatus.WARN, 2: DiagnosticStatus.ERROR}
 
@@ -133,6 +134,14 @@ class ControllerDiagnostics:
         arr.header.stamp = self.get_clock().now().to_msg()
         arr.status = [st]
         self.pub_diag.publish(arr)
+
+    def _diagnose_failure(self) -> None:
+        """Name the constraints that conflict (a few ms, once per failing spell)."""
+        try:
+            self.qp_conflict = diagnose(self.controller).text()
+        except Exception as exc:  # noqa: BLE001 - the diagnosis must not make things worse
+            self.qp_conflict = f'diagnosis failed: {type(exc).__name__}: {exc}'
+        self.say('warning', 'diagnosis', f'QP failure diagnosis: {self.qp_conflict}')
 
     def _budget_text(self) -> str:
         budget, cap = self.controller.get_solver_budget()

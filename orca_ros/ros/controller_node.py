@@ -56,7 +56,6 @@ from .joint_state_input import JointStateInput, StateRejected
 from .live_parameters import LiveParameters
 from .target_smoothing import TargetSmoothing
 from ..configuration import build_from_config
-from ..optim.diagnosis import diagnose
 from ..safety import SafeCommand
 from ..utils.ring_buffer import RingBuffer
 
@@ -391,14 +390,6 @@ class OrcaControllerNode(
             self._diagnosed = False
             self.safe.reset()
         self._publish(np.clip(cmd, -self.safe.limit, self.safe.limit))
-
-    def _diagnose_failure(self) -> None:
-        """Name the constraints that conflict (a few ms, once per failing spell)."""
-        try:
-            self.qp_conflict = diagnose(self.controller).text()
-        except Exception as exc:  # noqa: BLE001 - the diagnosis must not make things worse
-            self.qp_conflict = f'diagnosis failed: {type(exc).__name__}: {exc}'
-        self.say('warning', 'diagnosis', f'QP failure diagnosis: {self.qp_conflict}')
 
     def on_callback_error(self, what: str, exc: Exception) -> None:
         """

@@ -42,7 +42,7 @@ from typing import Callable
 import numpy as np
 import pybullet
 
-from .contacts import ContactPoint, read_contacts
+from .contacts import ContactsMixin
 from .joint_map import JointMap
 
 
@@ -50,7 +50,7 @@ def _rot(quat_xyzw) -> np.ndarray:
     return np.array(pybullet.getMatrixFromQuaternion(quat_xyzw)).reshape(3, 3)
 
 
-class SimModel:
+class SimModel(ContactsMixin):
     def __init__(self, server, urdf_path, position, orientation, name, fixed_base):
         self.server = server
         c = self.client = server.client
@@ -360,78 +360,3 @@ class SimModel:
 
     def get_gravity(self) -> np.ndarray:
         return self.server.gravity.copy()
-
-    # -------------------------------------------------------------- friction and contacts
-    def set_friction(self, lateral: float, spinning=None, rolling=None, links=None) -> None:
-        """
-        Coulomb friction coefficients of the named links (default: every link and the base).
-
-        PyBullet combines the coefficients of two touching bodies by multiplying them; the ground
-        plane's are 1 unless :meth:`SimServer.set_ground_friction` changes them.
-        """
-        values = {'lateralFriction': float(lateral)}
-        if spinning is not None:
-            values['spinningFriction'] = float(spinning)
-        if rolling is not None:
-            values['rollingFriction'] = float(rolling)
-        if not all(np.isfinite(v) and v >= 0 for v in values.values()):
-            raise ValueError(f'friction coefficients must be finite and >= 0, got {values}')
-        ids = (
-            range(-1, self.client.getNumJoints(self.body))
-            if links is None
-            else [self._link(n) for n in links]
-        )
-        for link in ids:
-            self.client.changeDynamics(self.body, link, **values)
-
-    def get_friction(self, link: str) -> dict:
-        """Lateral, spinning and rolling friction coefficients of a link."""
-        info = self.client.getDynamicsInfo(self.body, self._link(link))
-        return {'lateral': info[1], 'rolling': info[6], 'spinning': info[7]}
-
-    def get_contacts(self, links=None) -> list[ContactPoint]:
-        """Contact points after the last step (of the named links only, when given)."""
-        names = {i: n for n, i in self._link_names().items()}
-        points = read_contacts(self.client, self.body, names)
-        if links is None:
-            return points
-        for n in links:
-            self._link(n)  # unknown names are refused
-        wanted = set(links)
-        return [c for c in points if c.link in wanted]
-
-    def apply_external_force(self, link: str, force, position=None) -> None:
-        """
-        Push ``link`` with a world-frame force [N] during the next step (a push, a tug).
-
-        Applied at ``position`` (world frame) or at the link frame's origin. PyBullet forgets
-        external forces after each step: call it before every step of the push.
-        """
-        f = np.asarray(force, dtype=float).reshape(3)
-        if not np.isfinite(f).all():
-            raise ValueError(f'external force must be finite, got {force!r}')
-        index = self._link(link)
-        if position is None:
-            position = (
-                self.get_world_to_base_transform()[:3, 3]
-                if index == -1
-                else self.get_link_position(link)
-            )
-        self.client.applyExternalForce(
-            self.body, index, f.tolist(), list(map(float, position)), pybullet.WORLD_FRAME
-        )
-
-    def get_contact_force(self, link: str) -> np.ndarray:
-        """Total force the world exerts on ``link`` through its contacts (world frame) [N]."""
-        f = np.zeros(3)
-        for c in self.get_contacts([link]):
-            f += c.force
-        return f
-
-    def _link_names(self) -> dict:
-        if not hasattr(self, '_link_index'):
-            try:
-                self._link('')
-            except ValueError:
-                pass
-        return self._link_index
