@@ -85,6 +85,7 @@ class Controller:
         self._update_cb: Callable[[float, float], None] | None = None
         self._time_budget: float | None = self.default_time_budget
         self._max_iterations: int | None = None  # None: each solver's default
+        self._lower_damping = 0.0  # temporal damping of the levels below the first
         n = self.layout.ndof
         self._tau = np.zeros(n)
         self._tau_cmd = np.zeros(n)
@@ -342,6 +343,9 @@ class Controller:
                 if generalized
                 else None
             )
+        for p in self._problems:
+            if isinstance(p, LowerLevelProblem):
+                p.set_temporal_damping(self._lower_damping)
         # objects without rows for this robot have nothing to compute
         self._updated = [
             o
@@ -477,6 +481,17 @@ class Controller:
 
     def get_return_code(self) -> ReturnCode:
         return self._return_code
+
+    def set_lower_level_damping(self, mu: float) -> None:
+        """
+        Damp every level below the first in time: + mu ||x - x_prev||^2.
+
+        See :meth:`LowerLevelProblem.set_temporal_damping`; strict levels only; 0 (default) off.
+        """
+        for p in self._problems:
+            if isinstance(p, LowerLevelProblem):
+                p.set_temporal_damping(mu)
+        self._lower_damping = float(mu)
 
     def diagnose(self):
         """Name the constraints that conflict in the last cycle (:mod:`.diagnosis`; ms)."""

@@ -78,6 +78,27 @@ class LowerLevelProblem(WeightedProblem):
         self._uboxb = np.zeros(nx)
         self.banded_backend = None
         self.null_space_dimension = nx
+        # temporal damping mu ||x - x_prev||^2 (see set_temporal_damping); x_prev: this level's
+        # solution of the previous cycle
+        self.temporal_damping = 0.0
+        self._x_prev: np.ndarray | None = None
+
+    def set_temporal_damping(self, mu: float) -> None:
+        """
+        Pull this level's solution towards its previous cycle's: + mu ||x - x_prev||^2.
+
+        A lower level whose tasks conflict with the levels above sits on the bounds left to it, and
+        hops between vertices of that set as bounds come and go (a velocity limit riding on and
+        off): its accelerations jump by tens of rad/s^2 from one cycle to the next. The damping
+        makes it move continuously; it acts in the null space of the locked rows only, so the
+        levels above are untouched. 0 (default) solves each cycle on its own.
+        """
+        mu = float(mu)
+        if not (np.isfinite(mu) and mu >= 0.0):
+            raise ValueError(f'temporal damping must be finite and >= 0, got {mu}')
+        self.temporal_damping = mu
+        if mu == 0.0:
+            self._x_prev = None
 
     def backends(self):
         return [self.strict_backend, self.banded_backend]
@@ -121,12 +142,29 @@ class LowerLevelProblem(WeightedProblem):
         if not math.isfinite(self.H.sum() + self.g.sum()):
             self.return_code = ReturnCode.NON_FINITE_PROBLEM
             return self.return_code
-        code, dx = self._solve_strict() if self.band is None else self._solve_banded()
+        mu, prev = self.temporal_damping, self._x_prev
+        if mu > 0.0 and prev is not None:  # + mu ||x - x_prev||^2, undone after the solve
+            self._diag += mu
+            self.g -= mu * prev
+        try:
+            code, dx = self._solve_strict() if self.band is None else self._solve_banded()
+        finally:
+            if mu > 0.0 and prev is not None:
+                self._diag -= mu
+                self.g += mu * prev
         if code is ReturnCode.SUCCESS:
             if np.isfinite(dx.sum()):
                 np.add(self.x_ref, dx, out=self.x)
             else:
                 code = ReturnCode.NON_FINITE_SOLUTION
+        if mu > 0.0:
+            if code is ReturnCode.SUCCESS:
+                if self._x_prev is None:
+                    self._x_prev = self.x.copy()
+                else:
+                    self._x_prev[:] = self.x
+            else:
+                self._x_prev = None  # after a failure, start again from the next solution
         self.return_code = code
         return code
 
