@@ -31,7 +31,6 @@ import tempfile
 import time
 
 import numpy as np
-import orca_ros as orca  # noqa: E402
 from orca_ros.ros.launch_free import free_domain_id, Probe, Procs  # noqa: E402
 
 
@@ -40,25 +39,10 @@ def run(rate: float, seconds: float):
     tmp = tempfile.mkdtemp()
     procs = Procs(domain, tmp)
     period = 1.0 / rate
-    procs.start(
-        'orca_ros.ros.pybullet_bridge',
-        '-p',
-        'mode:=lockstep',
-        '-p',
-        f'control_period:={period}',
-        '-p',
-        'initial_positions:=[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]',
-        name='bridge',
-    )
-    procs.start(
-        'orca_ros.ros.controller_node',
-        '--params-file',
-        orca.share_path('config', 'lwr_controller.yaml'),
-        '-p',
-        'trigger:=joint_state',
-        '-p',
-        f'update_rate:={rate}',
-        name='controller',
+    procs.start_arm(
+        'lockstep',
+        controller_args=('-p', f'update_rate:={rate}'),
+        bridge_args=('-p', f'control_period:={period}'),
     )
     probe = Probe(domain)
     arrivals = []

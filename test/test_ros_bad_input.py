@@ -169,14 +169,7 @@ def test_lockstep_controller_answers_a_repeated_state_once_more(tmp_path):
     """
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    procs.start(
-        'orca_ros.ros.controller_node',
-        '--params-file',
-        orca.share_path('config', 'lwr_controller.yaml'),
-        '-p',
-        'trigger:=joint_state',
-        name='controller',
-    )
+    procs.start_arm_controller('lockstep')
     probe = Probe(domain)
     try:
         msg = _state()

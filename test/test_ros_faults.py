@@ -23,12 +23,10 @@ line names the cause, and a target is reached afterwards.
 import time
 
 import numpy as np
-import orca_ros as orca
-from orca_ros.ros.launch_free import free_domain_id, Probe, Procs
+from orca_ros.ros.launch_free import ARM_Q0, free_domain_id, Probe, Procs
 import pytest
 from std_srvs.srv import Trigger
 
-Q0 = [0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]
 NAMES = [f'joint_{i}' for i in range(7)]
 EFFORT = np.array([176, 176, 100, 100, 100, 38, 38], dtype=float)
 
@@ -38,22 +36,7 @@ def arm(tmp_path_factory):
     tmp = tmp_path_factory.mktemp('faults')
     domain = free_domain_id()
     procs = Procs(domain, str(tmp))
-    procs.start(
-        'orca_ros.ros.pybullet_bridge',
-        '-p',
-        'mode:=lockstep',
-        '-p',
-        f'initial_positions:={Q0}',
-        name='bridge',
-    )
-    procs.start(
-        'orca_ros.ros.controller_node',
-        '--params-file',
-        orca.share_path('config', 'lwr_controller.yaml'),
-        '-p',
-        'trigger:=joint_state',
-        name='controller',
-    )
+    procs.start_arm('lockstep')
     probe = Probe(domain)
     try:
         probe.wait_for(lambda: probe.sim_time() > 1.0, 60, 'the controller driving the bridge')
@@ -137,7 +120,7 @@ def test_target_in_world_frame(arm):
 )
 def test_bad_joint_states(arm, case, cause):
     probe, procs = arm
-    q = np.array(Q0)
+    q = np.array(ARM_Q0)
     names, v = list(NAMES), np.zeros(7)
     if case == 'absurd':
         q[3] = 1e300
@@ -203,7 +186,7 @@ def test_unreachable_then_reachable_target(arm):
     # back to a reachable pose near the start: reached although the arm spent 3 s stretched at its
     # limits
     target = np.eye(4)
-    probe.robot.set_robot_state(np.array(Q0), np.zeros(7))
+    probe.robot.set_robot_state(np.array(ARM_Q0), np.zeros(7))
     target = probe.robot.get_frame_pose('link_7')
     target[:3, 3] += [0.05, -0.05, 0.05]
     probe.send_target('ee', target, until=probe.moved_towards(target))

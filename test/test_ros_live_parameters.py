@@ -19,11 +19,8 @@ a reason (lockstep: times are simulated).
 """
 
 import numpy as np
-import orca_ros as orca
 from orca_ros.ros.launch_free import free_domain_id, Probe, Procs
 import pytest
-
-Q0 = '[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]'
 
 
 def set_params(probe, atomically=False, **values):
@@ -64,25 +61,8 @@ def rise_time(probe, step=0.01, fraction=0.9):
 def test_gain_change_applies_and_bad_changes_are_refused(tmp_path):
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    procs.start(
-        'orca_ros.ros.pybullet_bridge',
-        '-p',
-        'mode:=lockstep',
-        '-p',
-        f'initial_positions:={Q0}',
-        name='bridge',
-    )
     # steps go straight to the servo here, so the PD law alone sets the response
-    procs.start(
-        'orca_ros.ros.controller_node',
-        '--params-file',
-        orca.share_path('config', 'lwr_controller.yaml'),
-        '-p',
-        'trigger:=joint_state',
-        '-p',
-        'tasks.ee.trajectory.enabled:=false',
-        name='controller',
-    )
+    procs.start_arm('lockstep', controller_args=('-p', 'tasks.ee.trajectory.enabled:=false'))
     probe = Probe(domain)
     try:
         probe.wait_for(lambda: probe.sim_time() > 1.0, 60, 'the controller driving the bridge')

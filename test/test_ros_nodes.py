@@ -18,12 +18,9 @@ Lockstep, private ROS domain, localhost discovery.
 """
 
 import numpy as np
-import orca_ros as orca
 from orca_ros.ros.launch_free import free_domain_id, Probe, Procs
 import pytest
 from std_srvs.srv import SetBool, Trigger
-
-Q0 = '[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]'
 
 
 @pytest.fixture(scope='module')
@@ -31,23 +28,7 @@ def system(tmp_path_factory):
     tmp = tmp_path_factory.mktemp('ros')
     domain = free_domain_id()
     procs = Procs(domain, str(tmp))
-    cfg = orca.share_path('config', 'lwr_controller.yaml')
-    procs.start(
-        'orca_ros.ros.pybullet_bridge',
-        '-p',
-        'mode:=lockstep',
-        '-p',
-        f'initial_positions:={Q0}',
-        name='bridge',
-    )
-    procs.start(
-        'orca_ros.ros.controller_node',
-        '--params-file',
-        cfg,
-        '-p',
-        'trigger:=joint_state',
-        name='controller',
-    )
+    procs.start_arm('lockstep')
     probe = Probe(domain)
     try:
         probe.wait_for(lambda: probe.sim_time() > 1.0, 60, 'the controller driving the bridge')
@@ -106,28 +87,15 @@ def _final_state(tmp_path, run):
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path / f'run{run}'))
     (tmp_path / f'run{run}').mkdir()
-    cfg = orca.share_path('config', 'lwr_controller.yaml')
-    procs.start(
-        'orca_ros.ros.pybullet_bridge',
-        '-p',
-        'mode:=lockstep',
-        '-p',
-        f'initial_positions:={Q0}',
-        '-p',
-        'stop_time:=1.5',
-        name='bridge',
-    )
-    procs.start(
-        'orca_ros.ros.controller_node',
-        '--params-file',
-        cfg,
-        '-p',
-        'trigger:=joint_state',
-        '-p',
-        'tasks.ee.target_position:=[0.45, -0.2, 0.55]',
-        '-p',
-        'tasks.ee.target_rpy:=[3.14159, 0.0, 0.0]',
-        name='controller',
+    procs.start_arm(
+        'lockstep',
+        controller_args=(
+            '-p',
+            'tasks.ee.target_position:=[0.45, -0.2, 0.55]',
+            '-p',
+            'tasks.ee.target_rpy:=[3.14159, 0.0, 0.0]',
+        ),
+        bridge_args=('-p', 'stop_time:=1.5'),
     )
     probe = Probe(domain)
     try:

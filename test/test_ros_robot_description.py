@@ -14,25 +14,14 @@
 """A controller started without a URDF takes it from the robot_description the bridge publishes."""
 
 import numpy as np
-import orca_ros as orca
 from orca_ros.ros.launch_free import free_domain_id, Probe, Procs
-
-Q0 = '[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]'
 
 
 def test_controller_runs_on_the_bridges_robot_description(tmp_path):
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    procs.start(
-        'orca_ros.ros.pybullet_bridge', '-p', 'mode:=lockstep', '-p', f'initial_positions:={Q0}',
-        name='bridge',
-    )
     # the parameter file names lwr.urdf: cleared here, so nothing but the topic gives the URDF
-    procs.start(
-        'orca_ros.ros.controller_node', '--params-file',
-        orca.share_path('config', 'lwr_controller.yaml'),
-        '-p', 'trigger:=joint_state', '-p', "urdf_path:=''", name='controller',
-    )
+    procs.start_arm('lockstep', controller_args=('-p', "urdf_path:=''"))
     probe = Probe(domain)
     try:
         procs.wait_log('controller', 'URDF from /robot_description', timeout=60)

@@ -28,9 +28,6 @@ import orca_ros as orca
 from orca_ros.ros.launch_free import free_domain_id, Probe, Procs
 import pytest
 
-Q0 = [0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]
-CFG = orca.share_path('config', 'lwr_controller.yaml')
-
 
 _ROBOT = []
 
@@ -53,24 +50,7 @@ def tracking(probe):
 def start(tmp_path, mode, *controller_args, bridge_args=()):
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    procs.start(
-        'orca_ros.ros.pybullet_bridge',
-        '-p',
-        f'mode:={mode}',
-        '-p',
-        f'initial_positions:={Q0}',
-        *bridge_args,
-        name='bridge',
-    )
-    procs.start(
-        'orca_ros.ros.controller_node',
-        '--params-file',
-        CFG,
-        '-p',
-        f'trigger:={"joint_state" if mode == "lockstep" else "timer"}',
-        *controller_args,
-        name='controller',
-    )
+    procs.start_arm(mode, controller_args=controller_args, bridge_args=bridge_args)
     return procs, Probe(domain)
 
 

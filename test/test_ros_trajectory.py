@@ -18,10 +18,8 @@ No torque step, a straight path at the set speed.
 """
 
 import numpy as np
-import orca_ros as orca
 from orca_ros.ros.launch_free import free_domain_id, Probe, Procs
 
-Q0 = '[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]'
 STEP = np.array([0.0, 0.25, -0.15])  # 29 cm
 TORQUE_STEP_BOUND = 2.0  # Nm per 1 ms cycle
 
@@ -29,23 +27,7 @@ TORQUE_STEP_BOUND = 2.0  # Nm per 1 ms cycle
 def run_step(tmp_path, *args):
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    procs.start(
-        'orca_ros.ros.pybullet_bridge',
-        '-p',
-        'mode:=lockstep',
-        '-p',
-        f'initial_positions:={Q0}',
-        name='bridge',
-    )
-    procs.start(
-        'orca_ros.ros.controller_node',
-        '--params-file',
-        orca.share_path('config', 'lwr_controller.yaml'),
-        '-p',
-        'trigger:=joint_state',
-        *args,
-        name='controller',
-    )
+    procs.start_arm('lockstep', controller_args=args)
     probe = Probe(domain)
     try:
         probe.wait_for(lambda: probe.sim_time() > 1.0, 60, 'the controller driving the bridge')

@@ -26,11 +26,9 @@ import shutil
 import subprocess
 import sys
 
-import orca_ros as orca
 from orca_ros.ros.launch_free import free_domain_id, Procs
 import pytest
 
-Q0 = '[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]'
 UDP_ONLY = """<?xml version="1.0" encoding="UTF-8" ?>
 <profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
   <transport_descriptors>
@@ -99,15 +97,8 @@ def test_bridge_and_controller_on_two_hosts_reach_targets_over_dds(two_hosts, tm
     }
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path), local_only=False)
-    procs.start(
-        'orca_ros.ros.pybullet_bridge', '-p', 'mode:=lockstep', '-p', f'initial_positions:={Q0}',
-        name='bridge', prefix=('ip', 'netns', 'exec', host_a), env=env,
-    )
-    procs.start(
-        'orca_ros.ros.controller_node', '--params-file',
-        orca.share_path('config', 'lwr_controller.yaml'), '-p', 'trigger:=joint_state',
-        name='controller', prefix=('ip', 'netns', 'exec', host_b), env=env,
-    )
+    procs.start_arm_bridge('lockstep', prefix=('ip', 'netns', 'exec', host_a), env=env)
+    procs.start_arm_controller('lockstep', prefix=('ip', 'netns', 'exec', host_b), env=env)
     try:
         rx0, tx0 = _bytes(host_b, link_b)
         # the main job attached on the bridge's host: targets and the recording cross the link

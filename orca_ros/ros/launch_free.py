@@ -63,6 +63,10 @@ def _die_with_parent():
         pass
 
 
+# the shipped arm's start: bent (q = 0 is the stretched, singular posture)
+ARM_Q0 = [0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]
+
+
 class Procs:
     def __init__(self, domain: int, tmp_path, local_only: bool = True):
         self.domain, self.tmp, self.procs = domain, tmp_path, []
@@ -86,6 +90,43 @@ class Procs:
         )
         self.procs.append((p, log, name))
         return p
+
+    def start_arm_bridge(self, mode: str = 'lockstep', *ros_args: str, prefix=(), env=None):
+        """Start the shipped 7-DoF arm's simulator (``lwr.urdf``) at :data:`ARM_Q0`."""
+        return self.start(
+            'orca_ros.ros.pybullet_bridge',
+            '-p',
+            f'mode:={mode}',
+            '-p',
+            f'initial_positions:={ARM_Q0}',
+            *ros_args,
+            name='bridge',
+            prefix=prefix,
+            env=env,
+        )
+
+    def start_arm_controller(self, mode: str = 'lockstep', *ros_args: str, prefix=(), env=None):
+        """
+        Start the controller with ``config/lwr_controller.yaml``.
+
+        One cycle per joint state in lockstep, its timer otherwise.
+        """
+        return self.start(
+            'orca_ros.ros.controller_node',
+            '--params-file',
+            orca.share_path('config', 'lwr_controller.yaml'),
+            '-p',
+            f'trigger:={"joint_state" if mode == "lockstep" else "timer"}',
+            *ros_args,
+            name='controller',
+            prefix=prefix,
+            env=env,
+        )
+
+    def start_arm(self, mode: str = 'lockstep', controller_args=(), bridge_args=()):
+        """Start the arm's simulator and its controller (the pair most tests drive)."""
+        self.start_arm_bridge(mode, *bridge_args)
+        self.start_arm_controller(mode, *controller_args)
 
     def log(self, name: str) -> str:
         with open(os.path.join(self.tmp, f'{name}.log')) as fh:

@@ -33,7 +33,6 @@ import tempfile
 import time
 
 import numpy as np
-import orca_ros as orca
 
 from .launch_free import free_domain_id, Probe, Procs
 
@@ -41,7 +40,6 @@ OFFSETS = [
     np.array(o)
     for o in ([0.10, 0.0, 0.0], [0.10, -0.15, 0.05], [0.0, -0.15, -0.10], [0.0, 0.0, 0.0])
 ]
-Q0 = '[0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]'
 
 
 def _wait_reached(probe, target, tol, timeout_sim):
@@ -64,29 +62,18 @@ def _wait_reached(probe, target, tol, timeout_sim):
     return float('nan')
 
 
-def _launch_robot(procs, args, mode: str, cfg: str) -> None:
+def _launch_robot(procs, args, mode: str) -> None:
     """Start the simulated arm (paused until the recorder hears it) and its controller."""
     if args.attach:
         return
-    procs.start(
-        'orca_ros.ros.pybullet_bridge',
-        '-p',
-        f'mode:={mode}',
-        '-p',
-        f'initial_positions:={Q0}',
-        '-p',
-        f'gui:={"true" if args.gui else "false"}',
-        '-p',
-        'start_paused:=true',  # until the recorder hears both sides
-        name='bridge',
-    )
-    procs.start(
-        'orca_ros.ros.controller_node',
-        '--params-file',
-        cfg,
-        '-p',
-        f'trigger:={"timer" if args.realtime else "joint_state"}',
-        name='controller',
+    procs.start_arm(
+        mode,
+        bridge_args=(
+            '-p',
+            f'gui:={"true" if args.gui else "false"}',
+            '-p',
+            'start_paused:=true',  # until the recorder hears both sides
+        ),
     )
 
 
@@ -116,7 +103,6 @@ def main(argv=None) -> int:
     else:
         domain = free_domain_id()
     procs = Procs(domain, tempfile.mkdtemp(prefix='orca_main_job_'), local_only=not args.attach)
-    cfg = orca.share_path('config', 'lwr_controller.yaml')
     mode = 'free_running' if args.realtime else 'lockstep'
     os.makedirs(args.output_dir, exist_ok=True)
     bag = args.bag or os.path.join(args.output_dir, time.strftime('run_%Y%m%d-%H%M%S'))
@@ -127,7 +113,7 @@ def main(argv=None) -> int:
         name='recorder',
     )
     procs.wait_log('recorder', 'recording', timeout=60)
-    _launch_robot(procs, args, mode, cfg)
+    _launch_robot(procs, args, mode)
     probe = Probe(domain)
     rows, path, ok = [], [], True
     try:
