@@ -217,6 +217,17 @@ def _lock_other_joints(robot: RobotModel, cfg: dict) -> list[str]:
     return joints
 
 
+_CONTACT_SETTINGS = (  # YAML key, Contact setter, conversion of the value
+    ('faces', 'set_number_of_faces', lambda v, _: int(v)),
+    ('friction_coefficient', 'set_friction_coefficient', lambda v, _: float(v)),
+    ('margin', 'set_margin', lambda v, _: float(v)),
+    ('normal', 'set_contact_normal', lambda v, name: _vec(v, 3, f'{name}.normal')),
+    ('max_normal_force', 'set_maximum_normal_force', lambda v, _: float(v)),
+    ('min_normal_force', 'set_minimum_normal_force', lambda v, _: float(v)),
+    ('velocity_gain', 'set_velocity_feedback_gain', lambda v, _: float(v)),
+)
+
+
 def _make_contact(name: str, cc: dict):
     if 'frame' not in cc:
         raise ConfigError(f"contact '{name}' needs a 'frame'")
@@ -224,20 +235,9 @@ def _make_contact(name: str, cc: dict):
         if cc['type'] == 'bilateral_contact':
             return BilateralContact(name, cc['frame'], cc.get('other_frame') or None)
         c = Contact(name, cc['frame'], offset=cc.get('offset'))
-        if 'faces' in cc:
-            c.set_number_of_faces(int(cc['faces']))
-        if 'friction_coefficient' in cc:
-            c.set_friction_coefficient(float(cc['friction_coefficient']))
-        if 'margin' in cc:
-            c.set_margin(float(cc['margin']))
-        if 'normal' in cc:
-            c.set_contact_normal(_vec(cc['normal'], 3, f'{name}.normal'))
-        if 'max_normal_force' in cc:
-            c.set_maximum_normal_force(float(cc['max_normal_force']))
-        if 'min_normal_force' in cc:
-            c.set_minimum_normal_force(float(cc['min_normal_force']))
-        if 'velocity_gain' in cc:
-            c.set_velocity_feedback_gain(float(cc['velocity_gain']))
+        for key, setter, value in _CONTACT_SETTINGS:  # the faces before the coefficient and margin
+            if key in cc:
+                getattr(c, setter)(value(cc[key], name))
         return c
     except (ValueError, TypeError) as exc:
         raise ConfigError(f"contact '{name}': {exc}") from None

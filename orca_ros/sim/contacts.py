@@ -69,6 +69,18 @@ def read_contacts(client, body: int, link_names: dict) -> list[ContactPoint]:
     return out
 
 
+def friction_values(lateral, spinning=None, rolling=None) -> dict:
+    """Return the ``changeDynamics`` keywords of the friction coefficients given (>= 0)."""
+    values = {'lateralFriction': float(lateral)}
+    if spinning is not None:
+        values['spinningFriction'] = float(spinning)
+    if rolling is not None:
+        values['rollingFriction'] = float(rolling)
+    if not all(np.isfinite(v) and v >= 0 for v in values.values()):
+        raise ValueError(f'friction coefficients must be finite and >= 0, got {values}')
+    return values
+
+
 class ContactsMixin:
     """Friction, contacts and pushes of a :class:`~orca_ros.sim.SimModel` (its body and links)."""
 
@@ -79,13 +91,7 @@ class ContactsMixin:
         PyBullet combines the coefficients of two touching bodies by multiplying them; the ground
         plane's are 1 unless :meth:`SimServer.set_ground_friction` changes them.
         """
-        values = {'lateralFriction': float(lateral)}
-        if spinning is not None:
-            values['spinningFriction'] = float(spinning)
-        if rolling is not None:
-            values['rollingFriction'] = float(rolling)
-        if not all(np.isfinite(v) and v >= 0 for v in values.values()):
-            raise ValueError(f'friction coefficients must be finite and >= 0, got {values}')
+        values = friction_values(lateral, spinning, rolling)
         ids = (
             range(-1, self.client.getNumJoints(self.body))
             if links is None

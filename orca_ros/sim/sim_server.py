@@ -28,6 +28,7 @@ import pybullet
 import pybullet_data
 from pybullet_utils import bullet_client
 
+from .contacts import friction_values
 from .sim_model import SimModel
 
 
@@ -64,13 +65,7 @@ class SimServer:
         """Friction coefficients of the ground plane (PyBullet multiplies the two bodies')."""
         if self.plane_id is None:
             raise RuntimeError('this world has no ground plane')
-        values = {'lateralFriction': float(lateral)}
-        if spinning is not None:
-            values['spinningFriction'] = float(spinning)
-        if rolling is not None:
-            values['rollingFriction'] = float(rolling)
-        if not all(np.isfinite(v) and v >= 0 for v in values.values()):
-            raise ValueError(f'friction coefficients must be finite and >= 0, got {values}')
+        values = friction_values(lateral, spinning, rolling)
         self.client.changeDynamics(self.plane_id, -1, **values)
 
     def get_time(self) -> float:
