@@ -31,7 +31,7 @@ from .cycle_plan import CyclePlan
 from .describe import describe_controller
 from .diagnosis import diagnose
 from .generalized import GeneralizedPriorities
-from .lower_level_problem import LowerLevelProblem
+from .priority_levels import PriorityLevels, tasks_by_level
 from .problem_layout import ProblemLayout
 from .resolution_strategy import ResolutionStrategy
 from .solvers import QPSolver, ReturnCode
@@ -86,6 +86,7 @@ class Controller:
         self._time_budget: float | None = self.default_time_budget
         self._max_iterations: int | None = None  # None: each solver's default
         self._lower_damping = 0.0  # temporal damping of the levels below the first
+        self._levels: PriorityLevels | None = None
         n = self.layout.ndof
         self._tau = np.zeros(n)
         self._tau_cmd = np.zeros(n)
@@ -295,57 +296,15 @@ class Controller:
         One CyclePlan (stacked rows of every object) and the problem of each level.
         """
         user = self.get_tasks()
-        one_level = self.resolution_strategy is ResolutionStrategy.ONE_LEVEL_WEIGHTED
-        levels = [0] if one_level else (sorted({t.level for t in user}) or [0])
-        self._level_tasks = (
-            [user] if one_level else [[t for t in user if t.level == lev] for lev in levels]
+        _, level_tasks = tasks_by_level(user, self.resolution_strategy)
+        self._plan = CyclePlan(
+            self.layout, level_tasks, self.global_regularisation, self._constraints
         )
-        plan = self._plan = CyclePlan(
-            self.layout, self._level_tasks, self.global_regularisation, self._constraints
+        stack = self._levels = PriorityLevels(
+            self._plan, user, self.resolution_strategy, self.solver, self._lower_damping
         )
-        generalized = self.resolution_strategy is ResolutionStrategy.GENERALIZED
-        self._problems, self._references = [], []
-        for i, lev in enumerate(levels):
-            own_diag = plan.diagonal[i]
-            above_diag = [t for d in plan.diagonal[:i] for t in d]
-            if i == 0:
-                self._problems.append(
-                    WeightedProblem(
-                        plan, plan.level_rows[0], self.solver, level=lev, diagonal_tasks=own_diag
-                    )
-                )
-                self._references.append(None)
-                continue
-            # levels in order, each weighted inside, each keeping (some of) the optimum of the
-            # levels above; GENERALIZED: the costs of the levels above stay in the level (constant
-            # when locked)
-            above = [t for t in user if t.level < lev]
-            cost = plan.prefix_rows[i] if generalized else plan.level_rows[i]
-            cost_diag = above_diag + own_diag if generalized else own_diag
-            self._problems.append(
-                LowerLevelProblem(
-                    plan,
-                    cost,
-                    self.solver,
-                    level=lev,
-                    locked_tasks=above,
-                    diagonal_tasks=cost_diag,
-                )
-            )
-            self._references.append(
-                WeightedProblem(
-                    plan,
-                    plan.prefix_rows[i],
-                    self.solver,
-                    level=lev,
-                    diagonal_tasks=above_diag + own_diag,
-                )
-                if generalized
-                else None
-            )
-        for p in self._problems:
-            if isinstance(p, LowerLevelProblem):
-                p.set_temporal_damping(self._lower_damping)
+        self._problems, self._references = stack.problems, stack.references
+        self._level_tasks = stack.level_tasks
         # objects without rows for this robot have nothing to compute
         self._updated = [
             o
@@ -397,7 +356,10 @@ class Controller:
         for obj in self._updated:
             obj.update(current_time, dt)
         self._plan.update()
-        problem, code = self._solve_levels(deadline)
+        problem, code, dropped = self._levels.solve(
+            deadline, self._max_iterations, self.priorities, self.name
+        )
+        self.dropped_levels += dropped
         self._return_code = code
         if code is ReturnCode.SUCCESS:
             x = problem.x
@@ -417,47 +379,6 @@ class Controller:
         if self._update_cb is not None:
             self._update_cb(current_time, dt)
         return self._solution_found
-
-    def _solve_levels(self, deadline: float | None):
-        """
-        Solve the level(s) in priority order.
-
-        Returns the problem holding the final solution and its code.
-        """
-        problems = self._problems
-        x_above = None
-        solved = problems[0]
-        code = ReturnCode.SUCCESS
-        for i, problem in enumerate(problems):
-            if i > 0:
-                own = self._level_tasks[i]
-                if not any(t.get_effective_weight() > 0.0 for t in own):
-                    continue  # nothing to optimise here: the solution above stands
-                band = None
-                if self._references[i] is not None:
-                    self._references[i].set_budget(deadline, self._max_iterations)
-                    band = self.priorities.bands(problem, own, self._references[i], x_above)
-                problem.lock(x_above, band)
-            problem.build()
-            problem.set_budget(deadline, self._max_iterations)
-            code = problem.solve()
-            if code is not ReturnCode.SUCCESS:
-                if i == 0:
-                    return problem, code
-                # lower levels are feasible by construction (see lower_level_problem); should a
-                # solver still fail, the level is dropped for this cycle: the solution above
-                # satisfies every constraint
-                _LOG.debug(
-                    "controller '%s': level %d not solved (%s), keeping level %d's solution",
-                    self.name,
-                    problem.level,
-                    code.value,
-                    solved.level,
-                )
-                self.dropped_levels += 1
-                return solved, ReturnCode.SUCCESS
-            x_above, solved = problem.x, problem
-        return solved, code
 
     def get_levels(self) -> list[int]:
         """Priority levels of the current problem stack (one entry for ONE_LEVEL_WEIGHTED)."""
@@ -488,9 +409,8 @@ class Controller:
 
         See :meth:`LowerLevelProblem.set_temporal_damping`; strict levels only; 0 (default) off.
         """
-        for p in self._problems:
-            if isinstance(p, LowerLevelProblem):
-                p.set_temporal_damping(mu)
+        if self._levels is not None:
+            self._levels.set_temporal_damping(mu)
         self._lower_damping = float(mu)
 
     def diagnose(self):

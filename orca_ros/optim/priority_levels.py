@@ -1,0 +1,124 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+The QP of each priority level, made once at configuration, and their solve in priority order.
+
+Level 0 is a :class:`WeightedProblem`; each level below is a :class:`LowerLevelProblem` that keeps
+the optimum of the levels above (strictly, or within the bands of the GENERALIZED strategy, whose
+reference problems, the levels' costs without locks, are made here too).
+"""
+
+from __future__ import annotations
+
+from .lower_level_problem import LowerLevelProblem
+from .resolution_strategy import ResolutionStrategy
+from .solvers import ReturnCode
+from .weighted_problem import WeightedProblem
+from ..utils.logger import get_logger
+
+_LOG = get_logger('optim')
+
+
+def tasks_by_level(user_tasks, strategy) -> tuple[list[int], list[list]]:
+    """Return (the priority levels, highest first; the user tasks of each)."""
+    if strategy is ResolutionStrategy.ONE_LEVEL_WEIGHTED:
+        return [0], [list(user_tasks)]
+    levels = sorted({t.level for t in user_tasks}) or [0]
+    return levels, [[t for t in user_tasks if t.level == lev] for lev in levels]
+
+
+class PriorityLevels:
+    def __init__(self, plan, user_tasks, strategy, solver, lower_damping: float = 0.0):
+        levels, self.level_tasks = tasks_by_level(user_tasks, strategy)
+        generalized = strategy is ResolutionStrategy.GENERALIZED
+        self.problems, self.references = [], []
+        for i, lev in enumerate(levels):
+            own_diag = plan.diagonal[i]
+            above_diag = [t for d in plan.diagonal[:i] for t in d]
+            if i == 0:
+                self.problems.append(
+                    WeightedProblem(
+                        plan, plan.level_rows[0], solver, level=lev, diagonal_tasks=own_diag
+                    )
+                )
+                self.references.append(None)
+                continue
+            # levels in order, each weighted inside, each keeping (some of) the optimum of the
+            # levels above; GENERALIZED: the costs of the levels above stay in the level (constant
+            # when locked)
+            above = [t for t in user_tasks if t.level < lev]
+            cost = plan.prefix_rows[i] if generalized else plan.level_rows[i]
+            cost_diag = above_diag + own_diag if generalized else own_diag
+            self.problems.append(
+                LowerLevelProblem(
+                    plan, cost, solver, level=lev, locked_tasks=above, diagonal_tasks=cost_diag
+                )
+            )
+            self.references.append(
+                WeightedProblem(
+                    plan,
+                    plan.prefix_rows[i],
+                    solver,
+                    level=lev,
+                    diagonal_tasks=above_diag + own_diag,
+                )
+                if generalized
+                else None
+            )
+        self.set_temporal_damping(lower_damping)
+
+    def set_temporal_damping(self, mu: float) -> None:
+        """Damp every level below the first in time (LowerLevelProblem.set_temporal_damping)."""
+        for p in self.problems[1:]:
+            p.set_temporal_damping(mu)
+
+    def solve(self, deadline, max_iterations, priorities, name: str):
+        """
+        Solve the level(s) in priority order.
+
+        Returns (the problem holding the final solution, its code, whether a level was dropped).
+        """
+        problems = self.problems
+        x_above = None
+        solved = problems[0]
+        code = ReturnCode.SUCCESS
+        for i, problem in enumerate(problems):
+            if i > 0:
+                own = self.level_tasks[i]
+                if not any(t.get_effective_weight() > 0.0 for t in own):
+                    continue  # nothing to optimise here: the solution above stands
+                band = None
+                if self.references[i] is not None:
+                    self.references[i].set_budget(deadline, max_iterations)
+                    band = priorities.bands(problem, own, self.references[i], x_above)
+                problem.lock(x_above, band)
+            problem.build()
+            problem.set_budget(deadline, max_iterations)
+            code = problem.solve()
+            if code is not ReturnCode.SUCCESS:
+                if i == 0:
+                    return problem, code, False
+                # lower levels are feasible by construction (see lower_level_problem); should a
+                # solver still fail, the level is dropped for this cycle: the solution above
+                # satisfies every constraint
+                _LOG.debug(
+                    "controller '%s': level %d not solved (%s), keeping level %d's solution",
+                    name,
+                    problem.level,
+                    code.value,
+                    solved.level,
+                )
+                return solved, ReturnCode.SUCCESS, True
+            x_above, solved = problem.x, problem
+        return solved, code, False
