@@ -7,6 +7,8 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 VENV="${TSID_VENV:-$ROOT/.venv-tsid}"
 REQ="$ROOT/bench/peer/tsid_requirements.txt"
 PY="${TSID_PYTHON:-$(command -v python3.13 || true)}"
+# pyenv's shim is on the PATH even where no 3.13 is selected: use only an interpreter that runs
+if [ -n "$PY" ] && ! "$PY" -c 'import sys' >/dev/null 2>&1; then PY=""; fi
 if [ -z "$PY" ]; then
   for cand in "$HOME"/.pyenv/versions/3.13*/bin/python3.13; do [ -x "$cand" ] && PY="$cand"; done
 fi

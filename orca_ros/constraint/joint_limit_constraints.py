@@ -17,18 +17,9 @@ Joint torque, position, velocity and acceleration limits.
 Position and velocity limits are turned into acceleration bounds. Velocities over a horizon h
 (never shorter than the control period dt):
     v + h a in [v_min, v_max]              ->  a in 1/h [v_min - v, v_max - v]
-Positions, *viable* in discrete time (after Del Prete, RA-L 2018), for the step the robot takes
-under a constant acceleration over dt (q' = q + dt v + dt^2/2 a, v' = v + dt a), with A the
-deceleration the joint can always produce (``set_max_acceleration``):
-* the next position stays within the limits: a <= 2 (q_max - q - dt v) / dt^2 (and below);
-* the next state can still stop before the limit at deceleration A: v'^2 <= 2 A (q_max - q') when
-  v' > 0, a quadratic inequality in a (and mirrored at q_min);
-* a smoother approach over the horizon h, q + h v + h^2/2 a <= q_max, only as far as it asks for
-  no more than A.
-A state that satisfies the viability condition keeps a = -A admissible for both the next step and
-the one after (so the bounds are never empty and a braking joint never needs more than A), and
-the one-step bound is exact: no excursion at all. A state that does not (started close to a limit,
-pushed) brakes at A; only the one-step bound may then ask for more. Position and velocity limits
+Positions: bounds *viable* in discrete time (after Del Prete, RA-L 2018; see
+:mod:`.viable_bound`): the next position is within the limits exactly, and every joint can still
+stop before them at the deceleration ``set_max_acceleration``. Position and velocity limits
 default to the URDF's values; torque limits to the URDF's efforts.
 """
 
@@ -37,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from .generic_constraint import _limit_vector, GenericConstraint, JointBoxConstraint
+from .viable_bound import ViableBound
 
 
 class _SymmetricLimitsMixin:
@@ -96,6 +88,8 @@ class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
     def __init__(self, name: str, horizon: float = 0.05, max_acceleration: float = 5.0):
         super().__init__(name)
         self._limits = None
+        self._bound = None  # ViableBound of both sides, made at the first update
+        self._bound_acc = None
         self.set_horizon(horizon)
         self.set_max_acceleration(max_acceleration)
 
@@ -123,36 +117,24 @@ class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
         return self.robot.get_joint_position_limits()
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
-        robot = self.robot
-        q, v = robot._q, robot._v
+        q, v = self.robot._q, self.robot._v
+        n = q.size
+        vb = self._bound
+        if vb is None or vb.size != 2 * n or self._bound_acc is not self.max_acceleration:
+            # both sides of every joint in one pass: [upper limits; lower limits, mirrored]
+            vb = self._bound = ViableBound(2 * n)
+            vb.set_acceleration(np.concatenate([np.broadcast_to(self.max_acceleration, n)] * 2))
+            self._bound_acc = self.max_acceleration
+            self._room, self._vel, self._out = np.zeros(2 * n), np.zeros(2 * n), np.zeros(2 * n)
         lo, hi = self._limits
-        acc = self.max_acceleration
-        with np.errstate(invalid='ignore'):  # infinite limits give infinite bounds
-            self.ub[:] = _viable_upper(hi - q, v, dt, acc, max(self.horizon, dt))
-            self.lb[:] = -_viable_upper(q - lo, -v, dt, acc, max(self.horizon, dt))
-
-
-def _viable_upper(room, v, dt, acc, h):
-    """
-    Return the largest admissible acceleration towards an upper limit ``room`` away.
-
-    ``room`` = q_max - q (>= 0 when within the limit), ``v`` the velocity towards it.
-    """
-    step = 2.0 * (room - dt * v) / (dt * dt)  # next position within the limit
-    # v'^2 <= 2 A (room - dt v - dt^2/2 a) with v' = v + dt a >= 0:
-    # dt^2 a^2 + (2 v dt + A dt^2) a + v^2 - 2 A (room - dt v) <= 0
-    b = 2.0 * v * dt + acc * dt * dt
-    c = v * v - 2.0 * acc * (room - dt * v)
-    disc = b * b - 4.0 * dt * dt * c
-    root = (-b + np.sqrt(np.maximum(disc, 0.0))) / (2.0 * dt * dt)
-    stop = -v / dt  # accelerations at or below this end the step at rest or moving away
-    viable = np.where(disc >= 0.0, np.maximum(root, stop), stop)
-    smooth = 2.0 * (room - h * v) / (h * h)
-    # neither asks for more than A: in a viable state the viability bound never does; in a state
-    # that is not (a start close to the limit, a push) it brakes at A rather than demanding a stop
-    # within one step, which the torque limits may not allow; only the next position is exact
-    out = np.minimum(step, np.maximum(np.minimum(viable, smooth), -acc))
-    return np.where(np.isfinite(room), out, np.inf)
+        room, vel, out = self._room, self._vel, self._out
+        np.subtract(hi, q, out=room[:n])
+        np.subtract(q, lo, out=room[n:])
+        vel[:n] = v
+        np.negative(v, out=vel[n:])
+        vb.upper(room, vel, dt, max(self.horizon, dt), out)
+        self.ub[:] = out[:n]
+        np.negative(out[n:], out=self.lb)
 
 
 class JointVelocityLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):

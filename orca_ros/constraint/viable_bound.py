@@ -1,0 +1,106 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Viable acceleration bound towards a limit, in discrete time, for many limits in one pass.
+
+For a coordinate with ``room`` = limit - position (>= 0 inside) and velocity ``v`` towards the
+limit, under a constant acceleration a over one step dt (p' = p + dt v + dt^2/2 a, v' = v + dt a)
+and A the deceleration that can always be produced, the largest admissible a is the least of:
+
+* the next position within the limit: a <= 2 (room - dt v) / dt^2 (exact, no excursion);
+* the next state able to stop before the limit at A (after Del Prete, RA-L 2018): v'^2 <= 2 A
+  (room - dt v - dt^2/2 a) when v' > 0, the larger root of a quadratic in a, or -v/dt (the step
+  ends at rest or moving away) when no root exists or it is smaller;
+* a smoother approach over a horizon h, p + h v + h^2/2 a <= limit, as far as it asks for no more
+  than A.
+
+In a viable state a = -A stays admissible, so the bound is never empty and braking never needs
+more than A; a state that is not viable (a start close to the limit, a push) brakes at A and only
+the one-step bound may ask for more. Used by the joint position limits (both sides of every joint
+stacked) and by the balance constraint (the centre of mass towards each edge of the support
+polygon).
+
+:class:`ViableBound` holds its buffers (no allocation per cycle); an infinite room gives an
+infinite bound.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+# rooms are clipped to this before the arithmetic (no inf - inf); their bound is set to +inf after
+_FAR = 1e6
+
+
+class ViableBound:
+    def __init__(self, size: int):
+        self.size = int(size)
+        n = self.size
+        self._room, self._a, self._b, self._c = (np.zeros(n) for _ in range(4))
+        self._d, self._e = np.zeros(n), np.zeros(n)
+        self._far = np.zeros(n, dtype=bool)
+        self._no_root = np.zeros(n, dtype=bool)
+        self._acc = np.ones(n)
+        self._acc_dt = None  # dt of the cached products of A below
+        self._acc_dt2, self._acc_m2, self._acc_neg = np.zeros(n), np.zeros(n), np.zeros(n)
+
+    def set_acceleration(self, acc) -> None:
+        """Set A, the deceleration that can always be produced: scalar or one per limit, > 0."""
+        self._acc[:] = acc
+        self._acc_dt = None
+
+    def upper(self, room, v, dt: float, horizon: float, out) -> np.ndarray:
+        """
+        Write into ``out`` the largest admissible acceleration towards each limit.
+
+        ``room``, ``v``: arrays of ``size``; ``horizon`` >= dt.
+        """
+        R, a, b, c, d, e = self._room, self._a, self._b, self._c, self._d, self._e
+        if self._acc_dt != dt:
+            self._acc_dt = dt
+            np.multiply(self._acc, dt * dt, out=self._acc_dt2)
+            np.multiply(self._acc, -2.0, out=self._acc_m2)
+            np.negative(self._acc, out=self._acc_neg)
+        np.greater_equal(room, _FAR, out=self._far)
+        np.minimum(room, _FAR, out=R)
+        dt2 = dt * dt
+        np.multiply(v, dt, out=a)
+        np.subtract(R, a, out=a)  # a: room - dt v
+        # b = 2 v dt + A dt^2,  c = v^2 - 2 A (room - dt v),  disc = b^2 - 4 dt^2 c
+        np.multiply(v, 2.0 * dt, out=b)
+        np.add(b, self._acc_dt2, out=b)
+        np.multiply(a, self._acc_m2, out=c)
+        np.add(c, np.square(v, out=d), out=c)
+        np.square(b, out=d)
+        np.subtract(d, np.multiply(c, 4.0 * dt2, out=c), out=d)  # d: disc
+        np.less(d, 0.0, out=self._no_root)
+        np.maximum(d, 0.0, out=d)
+        np.sqrt(d, out=d)
+        np.subtract(d, b, out=d)
+        np.multiply(d, 0.5 / dt2, out=d)  # d: larger root
+        np.multiply(v, -1.0 / dt, out=e)  # e: stop within the step
+        np.maximum(d, e, out=d)
+        np.copyto(d, e, where=self._no_root)  # d: viable
+        # smooth approach over the horizon, capped at braking with A
+        h = horizon
+        np.multiply(v, -h, out=e)
+        np.add(e, R, out=e)
+        np.multiply(e, 2.0 / (h * h), out=e)
+        np.minimum(d, e, out=d)
+        np.maximum(d, self._acc_neg, out=d)
+        # the next position within the limit, exactly
+        np.multiply(a, 2.0 / dt2, out=a)
+        np.minimum(a, d, out=out)
+        out[self._far] = np.inf
+        return out
