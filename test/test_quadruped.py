@@ -193,7 +193,12 @@ def test_equality_only_problem_with_contacts_matches_full_kkt(solver):
         (1.0, np.hstack((Jb, Z(6, n), Z(6, nw))), a_b),
         (post.get_weight(), np.hstack((Z(n, 6), np.eye(n), Z(n, n), Z(n, nw))), post.get_f()),
         (reg.get_weight(), np.hstack((np.eye(nv), Z(nv, n), Z(nv, nw))), -reg.damping * nu),
-        (reg.get_weight(), np.hstack((Z(nw, nv), Z(nw, n), np.eye(nw))), np.zeros(nw)),
+        # wrenches regularised in tenths of the robot's weight
+        (
+            reg.get_weight() / (0.1 * robot.get_total_mass() * 9.81) ** 2,
+            np.hstack((Z(nw, nv), Z(nw, n), np.eye(nw))),
+            np.zeros(nw),
+        ),
     ]
     H = sum(w * E.T @ E for w, E, _ in blocks)
     g = -sum(w * E.T @ f for w, E, f in blocks)

@@ -99,4 +99,5 @@ def test_talos_on_two_soles_has_full_rank_equalities(solver, example_robot_urdf)
     for s_, w in zip(soles, W):  # the soles are level: local axes = world axes
         R = robot.get_relative_transform('world', s_.frame)[:3, :3]
         w_local = np.concatenate((R.T @ w[:3], R.T @ w[3:]))
-        assert np.all(F @ w_local <= 1e-6 * np.abs(w).max())
+        # to the solver's accuracy on the problem's force scale (a sole may carry nothing)
+        assert np.all(F @ w_local <= 1e-6 * np.abs(W).max())

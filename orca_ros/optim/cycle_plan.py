@@ -141,6 +141,8 @@ class CyclePlan:
             key = (t.get_effective_weight(), t.selection_version)
             if key != self._diagonal_keys[i]:
                 np.multiply(t.selection, key[0], out=ws)
+                if t.column_weights is not None:
+                    ws *= t.column_weights
                 self._diagonal_keys[i] = key
             np.multiply(ws, t.f, out=self.wsf[id(t)])
         relaxed = self._relaxed

@@ -115,7 +115,10 @@ class _Groups:
         lbox, ubox = self._box(without)
         A, b = self.A[keep_eq], self.b[keep_eq]
         C, lo, up = self.C[keep_in], self.l[keep_in], self.u[keep_in]
-        backend = make_backend(QPSolver.DAQP, self.nx, A.shape[0], C.shape[0])
+        backend = make_backend(
+            QPSolver.DAQP, self.nx, A.shape[0], C.shape[0],
+            scale=self.problem.layout.variable_scale,
+        )
         backend.max_iterations = 10_000
         code = backend.solve(self.H, self.g, A, b, C, lo, up, lbox, ubox)
         return code is ReturnCode.SUCCESS, backend.x.copy()

@@ -68,6 +68,9 @@ class LowerLevelProblem(WeightedProblem):
         self._us = np.zeros(self.n_in + nx)
         self._free = np.full(nx, np.inf)
         self.strict_backend = make_backend(solver, nx, 0, self.n_in + nx, box=False)
+        scale = plan.layout.variable_scale
+        self._scale = None if np.all(scale == 1.0) else scale
+        self._As = np.zeros((self.n_eq, nx))
         # banded form: variables z (nx), equalities A_eq z = 0, rows [C; locks], bounds on z
         self._Ab = np.zeros((self.n_eq_constraints, nx))
         self._bb = np.zeros(self.n_eq_constraints)
@@ -176,8 +179,11 @@ class LowerLevelProblem(WeightedProblem):
         nx, n_in = self.layout.nx, self.n_in
         N = self._N
         N.fill(0.0)
+        d = self._scale
         if self.n_eq:
-            _, s, vt = np.linalg.svd(self.A, full_matrices=True)
+            # the null space in the solver's units (x = D x~, see solvers/scaled_backend.py)
+            A = self.A if d is None else np.multiply(self.A, d, out=self._As)
+            _, s, vt = np.linalg.svd(A, full_matrices=True)
             r = int(np.count_nonzero(s > _RANK_TOL * max(1.0, s[0] if s.size else 0.0)))
         else:
             vt, r = np.eye(nx), 0
@@ -186,6 +192,8 @@ class LowerLevelProblem(WeightedProblem):
         if k == 0:  # the levels above use every degree of freedom: nothing left to optimise
             return ReturnCode.SUCCESS, np.zeros(nx)
         N[:, :k] = vt[r:].T
+        if d is not None:
+            N *= d[:, None]  # x - x_ref = D N~ y
         HN = self.H @ N
         np.dot(N.T, HN, out=self._Hs)
         self._Hs[range(k, nx), range(k, nx)] = 1.0  # padding variables: zero columns, pinned at 0
@@ -212,7 +220,9 @@ class LowerLevelProblem(WeightedProblem):
     def _solve_banded(self):
         nx, n_in, ne = self.layout.nx, self.n_in, self.n_eq_constraints
         if self.banded_backend is None:
-            self.banded_backend = make_backend(self.solver_type, nx, ne, self._Cb.shape[0])
+            self.banded_backend = make_backend(
+                self.solver_type, nx, ne, self._Cb.shape[0], scale=self.layout.variable_scale
+            )
             self.banded_backend.deadline = self.strict_backend.deadline
             self.banded_backend.max_iterations = self.strict_backend.max_iterations
         self._Ab[:] = self.A[

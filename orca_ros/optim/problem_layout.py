@@ -23,6 +23,11 @@ recovers
 
 while the unactuated (floating-base) rows stay as an equality constraint  [M_u, -J_c,u^T] x = -n_u.
 Every task or constraint written on torques is mapped through (T, t0).
+
+Units: ``variable_scale`` is the size of each variable in physical units, 1 for accelerations and
+the robot's weight m g for wrench components; the solver works on x / variable_scale (see
+:mod:`orca_ros.optim.solvers.scaled_backend`) and the regularisation weighs wrenches in units of
+the robot's weight, so the same defaults hold from a 1 kg arm to a 100 kg humanoid.
 """
 
 from __future__ import annotations
@@ -49,10 +54,16 @@ class ProblemLayout:
         self.base_acc = slice(0, self.nbase)
         self.joint_acc = slice(self.nbase, self.nv)
         self.wrench = slice(self.nv, self.nx)
+        self.variable_scale = np.ones(self.nx)
+        self.variable_scale[self.wrench] = self.weight_scale()
         self._T = np.zeros((self.ndof, self.nx))
         self._t0 = np.zeros(self.ndof)
         self.T = self._T
         self.t0 = self._t0
+
+    def weight_scale(self) -> float:
+        """Return the robot's weight m g [N] (g = 9.81 whatever the gravity set), at least 1 N."""
+        return max(1.0, self.robot.get_total_mass() * 9.81)
 
     def set_contacts(self, contacts) -> None:
         """

@@ -84,7 +84,10 @@ class WeightedProblem:
         self.return_code = ReturnCode.NOT_SOLVED
 
     def _make_backend(self):
-        return make_backend(self.solver_type, self.layout.nx, self.n_eq, self.n_in)
+        lay = self.layout
+        return make_backend(
+            self.solver_type, lay.nx, self.n_eq, self.n_in, scale=lay.variable_scale
+        )
 
     def backends(self):
         return [self.backend]

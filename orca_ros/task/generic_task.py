@@ -24,6 +24,8 @@ class GenericTask(TaskBase):
     #: E selects these variables (rows = identity columns): the problem adds the task to the
     #: Hessian's diagonal instead of forming E^T E (None: a dense task)
     diagonal_columns = None
+    #: of a diagonal task: a factor per column on top of weight x selection (None: all 1)
+    column_weights = None
 
     def __init__(self, name: str):
         super().__init__(name)
