@@ -105,7 +105,7 @@ class ScaledBackend:
         )
 
     def _solve_stacked(self, H, g, M, lo, hi) -> ReturnCode:
-        """Solve in the stacked layout M = [A; C], lo = [lbox; b; l], hi = [ubox; b; u] (DAQP's)."""
+        """Solve in the stacked layout M = [A; C], lo = [lbox; b; l], hi = [ubox; b; u] (DAQP)."""
         Hs, gs = self._objective(H, g)
         n = self.nx
         np.multiply(M, self.d, out=self._M)
