@@ -31,6 +31,7 @@ _os.environ.setdefault('OMP_NUM_THREADS', '1')
 
 from .common import ActivationState, TaskBase  # noqa: E402
 from .constraint import (  # noqa: E402
+    BalanceConstraint,
     BilateralContact,
     Contact,
     DynamicsEquationConstraint,
@@ -80,6 +81,7 @@ __all__ = [
     'BilateralContact',
     'CoMTask',
     'Contact',
+    'BalanceConstraint',
     'SurfaceContact',
     'WrenchTask',
     'surface_contact',

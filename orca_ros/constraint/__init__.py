@@ -13,6 +13,7 @@
 # limitations under the License.
 """Constraints: linear bounds on the reduced QP variables."""
 
+from .balance_constraint import BalanceConstraint, convex_hull_2d
 from .bilateral_contact import BilateralContact
 from .contact import Contact, ContactBase, ContactExistenceCondition, surface_contact
 from .dynamics_equation_constraint import DynamicsEquationConstraint
@@ -26,6 +27,8 @@ from .joint_limit_constraints import (
 from .surface_wrench_contact import contact_wrench_cone, SurfaceContact
 
 __all__ = [
+    'BalanceConstraint',
+    'convex_hull_2d',
     'BilateralContact',
     'Contact',
     'ContactBase',

@@ -130,6 +130,13 @@ class ContactBase(GenericConstraint):
     def fill_wrench_jacobian(self, out: np.ndarray) -> None:
         raise NotImplementedError
 
+    #: points that bound the support polygon (see support_points)
+    support_point_count = 1
+
+    def support_points(self) -> np.ndarray:
+        """Return the contact's points in the world (support_point_count x 3)."""
+        return point_terms(self.robot, self._fid, getattr(self, 'offset', None))[0][None, :]
+
 
 class NormalForceRamp:
     """

@@ -130,6 +130,15 @@ class SurfaceContact(NormalForceRamp, ContactBase):
     def rows(self) -> int:
         return self.faces_local.shape[0] + 1
 
+    @property
+    def support_point_count(self) -> int:
+        return self.points.shape[0]
+
+    def support_points(self) -> np.ndarray:
+        """Return the sole's corners in the world (n x 3)."""
+        T = self.robot.world_frame_terms(self._fid)[0]
+        return self.points @ T[:3, :3].T + T[:3, 3]
+
     def contact_normal_world(self) -> np.ndarray:
         return self.robot.world_frame_terms(self._fid)[0][:3, 2]
 

@@ -60,11 +60,13 @@ class ViableBound:
         self._acc[:] = acc
         self._acc_dt = None
 
-    def upper(self, room, v, dt: float, horizon: float, out) -> np.ndarray:
+    def upper(self, room, v, dt: float, horizon: float, out, one_step: bool = True) -> np.ndarray:
         """
         Write into ``out`` the largest admissible acceleration towards each limit.
 
-        ``room``, ``v``: arrays of ``size``; ``horizon`` >= dt.
+        ``room``, ``v``: arrays of ``size``; ``horizon`` >= dt. ``one_step=False`` leaves out the
+        exact next-position bound: the result then never asks for more than braking at A (for
+        limits that move and may leave the state outside them).
         """
         R, a, b, c, d, e = self._room, self._a, self._b, self._c, self._d, self._e
         if self._acc_dt != dt:
@@ -99,8 +101,10 @@ class ViableBound:
         np.multiply(e, 2.0 / (h * h), out=e)
         np.minimum(d, e, out=d)
         np.maximum(d, self._acc_neg, out=d)
-        # the next position within the limit, exactly
-        np.multiply(a, 2.0 / dt2, out=a)
-        np.minimum(a, d, out=out)
+        if one_step:  # the next position within the limit, exactly
+            np.multiply(a, 2.0 / dt2, out=a)
+            np.minimum(a, d, out=out)
+        else:
+            out[:] = d
         out[self._far] = np.inf
         return out

@@ -306,6 +306,8 @@ class Probe:
 
     def ee_pose(self, q=None) -> np.ndarray:
         if q is None:
+            # commands can arrive before the first state does (discovery order): wait for one
+            self.wait_for(lambda: self.last_state() is not None, 30.0, 'a joint state')
             q = self.last_state()[1]
         self.robot.set_robot_state(q, np.zeros(7))
         return self.robot.get_frame_pose('link_7')

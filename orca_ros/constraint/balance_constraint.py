@@ -1,0 +1,143 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Balance: the centre of mass kept over the support polygon, with a margin.
+
+The support polygon is the convex hull, in the horizontal plane, of the points of every active
+contact (a point contact's point, a sole's corners), recomputed every cycle; shrunk by ``margin``
+it gives one half-plane per edge, n_i . c_xy <= d_i. Each edge bounds the CoM's acceleration
+towards it, c_ddot = J_com nu_dot + J_dot_com nu, with the discrete-time viable bound of
+:mod:`.viable_bound`: the CoM can always stop before the edge at ``max_acceleration`` (A), and
+approaches it over ``horizon``. A CoM target outside the polygon then saturates at its boundary
+instead of throwing the robot over it.
+
+Unlike the joint limits, the bound never demands more than braking at A (no exact one-step
+term): the polygon moves with the contacts (a foot lifted, a sole switched off) and may leave the
+CoM outside, and a bound asking for a stop within one cycle would make the QP infeasible; the CoM
+is brought back at A instead. With fewer than three support points (no polygon) the rows are
+relaxed. The CoM of the model is used: the constraint is quasi-static (the contact wrench cones
+keep the CoP in the polygon; this keeps the CoM there).
+
+Rows: one per possible hull edge (the number of support points of all contacts), sized when the
+contacts change; unused rows are relaxed.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .generic_constraint import GenericConstraint
+from .viable_bound import ViableBound
+
+
+def convex_hull_2d(points: np.ndarray) -> np.ndarray:
+    """Return the vertices of the convex hull of 2-D points, counter-clockwise (monotone chain)."""
+    pts = sorted(set(map(tuple, np.round(points, 12))))
+    if len(pts) < 3:
+        return np.array(pts, dtype=float).reshape(-1, 2)
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower, upper = [], []
+    for p in pts:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0.0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(pts):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0.0:
+            upper.pop()
+        upper.append(p)
+    return np.array(lower[:-1] + upper[:-1], dtype=float)
+
+
+class BalanceConstraint(GenericConstraint):
+    def __init__(
+        self,
+        name: str,
+        margin: float = 0.03,
+        max_acceleration: float = 2.0,
+        horizon: float = 0.2,
+    ):
+        super().__init__(name)
+        self.set_margin(margin)
+        self.set_max_acceleration(max_acceleration)
+        self.set_horizon(horizon)
+        self._bound = None
+        self.polygon = np.zeros((0, 2))  # the last support polygon (not shrunk), CCW
+
+    def set_margin(self, margin: float) -> None:
+        """Distance kept between the CoM and the polygon's edges [m], >= 0."""
+        if not (np.isfinite(margin) and margin >= 0.0):
+            raise ValueError(f"constraint '{self.name}': margin must be finite and >= 0")
+        self.margin = float(margin)
+
+    def set_max_acceleration(self, value: float) -> None:
+        """Deceleration of the CoM that stopping before an edge may use [m/s^2], > 0."""
+        if not (np.isfinite(value) and value > 0.0):
+            raise ValueError(f"constraint '{self.name}': max acceleration must be finite and > 0")
+        self.max_acceleration = float(value)
+        self._bound = None
+
+    def set_horizon(self, horizon: float) -> None:
+        """Time over which the CoM approaches an edge [s], > 0."""
+        if not (np.isfinite(horizon) and horizon > 0.0):
+            raise ValueError(f"constraint '{self.name}': horizon must be finite and > 0")
+        self.horizon = float(horizon)
+
+    def rows(self) -> int:
+        return sum(c.support_point_count for c in self.layout.contacts)
+
+    def resize(self, layout) -> None:
+        super().resize(layout)
+        m = self.rows()
+        self._bound = None
+        self._room, self._vel, self._out = np.zeros(m), np.zeros(m), np.zeros(m)
+        self._normals = np.zeros((m, 2))
+
+    def _support(self) -> np.ndarray:
+        pts = [
+            c.support_points()[:, :2]
+            for c in self.layout.contacts
+            if c.is_computing() and c.normal_force_bound() > 0.0
+        ]
+        return np.concatenate(pts) if pts else np.zeros((0, 2))
+
+    def _update_constraint_function(self, current_time: float, dt: float) -> None:
+        m = self.C.shape[0]
+        self.C.fill(0.0)
+        self.lb.fill(-np.inf)
+        self.ub.fill(np.inf)
+        hull = convex_hull_2d(self._support()) if m else np.zeros((0, 2))
+        self.polygon = hull
+        k = hull.shape[0]
+        if k < 3:
+            return
+        if self._bound is None:
+            self._bound = ViableBound(m)
+            self._bound.set_acceleration(self.max_acceleration)
+        edges = np.roll(hull, -1, axis=0) - hull
+        n = self._normals[:k]
+        n[:, 0], n[:, 1] = edges[:, 1], -edges[:, 0]  # outward for a CCW polygon
+        n /= np.linalg.norm(n, axis=1)[:, None]
+        p, J, v, bias = self.robot.get_center_of_mass_terms()
+        room, vel, out = self._room, self._vel, self._out
+        room.fill(np.inf)
+        vel.fill(0.0)
+        # distance to each shrunk edge, and the CoM's speed towards it
+        room[:k] = np.einsum('ij,ij->i', n, hull) - self.margin - n @ p[:2]
+        vel[:k] = n @ v[:2]
+        self._bound.upper(room, vel, dt, max(self.horizon, dt), out, one_step=False)
+        self.C[:k, self.layout.acc] = n @ J[:2]
+        self.ub[:k] = out[:k] - n @ bias[:2]
