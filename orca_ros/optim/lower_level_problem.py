@@ -41,6 +41,8 @@ from .solvers import make_backend, ReturnCode
 from .weighted_problem import WeightedProblem
 
 _RANK_TOL = 1e-9  # singular values below this (relative to the largest, at least 1) count as zero
+_EMPTY_ROW = 1e-10  # projected rows shorter than this are empty (their unit rows have norm ~1)
+_ROOM_TOL = 1e-6  # bounds closer than this to the level above's solution leave the step no room
 
 
 class LowerLevelProblem(WeightedProblem):
@@ -71,6 +73,7 @@ class LowerLevelProblem(WeightedProblem):
         scale = plan.layout.variable_scale
         self._scale = None if np.all(scale == 1.0) else scale
         self._As = np.zeros((self.n_eq, nx))
+        self._damp_w = 1.0 / np.square(scale)  # temporal damping per variable: wrenches in m g
         # banded form: variables z (nx), equalities A_eq z = 0, rows [C; locks], bounds on z
         self._Ab = np.zeros((self.n_eq_constraints, nx))
         self._bb = np.zeros(self.n_eq_constraints)
@@ -94,7 +97,10 @@ class LowerLevelProblem(WeightedProblem):
         hops between vertices of that set as bounds come and go (a velocity limit riding on and
         off): its accelerations jump by tens of rad/s^2 from one cycle to the next. The damping
         makes it move continuously; it acts in the null space of the locked rows only, so the
-        levels above are untouched. 0 (default) solves each cycle on its own.
+        levels above are untouched. 0 (default) solves each cycle on its own. Wrenches are damped
+        in units of the robot's weight (as the solver sees them). A level's first cycle (and the
+        first after a failure) is damped towards the solution of the level above, so that a level
+        switched on starts from what the robot already does.
         """
         mu = float(mu)
         if not (np.isfinite(mu) and mu >= 0.0):
@@ -146,15 +152,20 @@ class LowerLevelProblem(WeightedProblem):
             self.return_code = ReturnCode.NON_FINITE_PROBLEM
             return self.return_code
         mu, prev = self.temporal_damping, self._x_prev
-        if mu > 0.0 and prev is not None:  # + mu ||x - x_prev||^2, undone after the solve
-            self._diag += mu
-            self.g -= mu * prev
+        if prev is None:
+            # first cycle (or after a failure): towards the level above's solution, so that a level
+            # starts from what the robot is already doing instead of jumping to its optimum
+            prev = self.x_ref
+        if mu > 0.0:  # + mu ||(x - x_prev) / d||^2 (the solver's units), undone after the solve
+            mw = mu * self._damp_w
+            self._diag += mw
+            self.g -= mw * prev
         try:
             code, dx = self._solve_strict() if self.band is None else self._solve_banded()
         finally:
-            if mu > 0.0 and prev is not None:
-                self._diag -= mu
-                self.g += mu * prev
+            if mu > 0.0:
+                self._diag -= mw
+                self.g += mw * prev
         if code is ReturnCode.SUCCESS:
             if np.isfinite(dx.sum()):
                 np.add(self.x_ref, dx, out=self.x)
@@ -172,8 +183,18 @@ class LowerLevelProblem(WeightedProblem):
         return code
 
     def _relaxed(self, lo, hi, value, out_lo, out_hi) -> None:
-        np.minimum(lo - value, 0.0, out=out_lo)
-        np.maximum(hi - value, 0.0, out=out_hi)
+        # room left to the step z, less _ROOM_TOL: the level above meets its bounds only to its
+        # solver's accuracy, and a row that barely touches the null space (norm ~1e-4) turns such
+        # a crumb of room into a large motion; a room of 4e-7 rad/s^2 on a joint resting on its
+        # box bound let the posture level move 31 rad/s^2 along the null space, then nothing the
+        # next cycle (a 3.3 Nm step); less the tolerance, the room is 0 then and grows
+        # continuously
+        np.subtract(lo, value, out=out_lo)
+        out_lo += _ROOM_TOL
+        np.minimum(out_lo, 0.0, out=out_lo)
+        np.subtract(hi, value, out=out_hi)
+        out_hi -= _ROOM_TOL
+        np.maximum(out_hi, 0.0, out=out_hi)
 
     def _solve_strict(self):
         nx, n_in = self.layout.nx, self.n_in
@@ -206,10 +227,18 @@ class LowerLevelProblem(WeightedProblem):
         # rows of very different scales (torques, accelerations, projected onto N) slow the solvers
         # down on these often degenerate problems: normalise them (empty rows are always satisfied)
         norms = np.linalg.norm(self._Cs, axis=1)
-        np.maximum(norms, 1e-12, out=norms)
+        # a row orthogonal to the null space (a joint the levels above fix entirely) is rounding
+        # noise (~1e-16): normalised, its sign would cut the step's space in half at random (a
+        # posture level stopped dead for one cycle: a 3.5 Nm step); it constrains nothing
+        empty = norms < _EMPTY_ROW
+        norms[empty] = 1.0
         self._Cs /= norms[:, None]
         self._ls /= norms
         self._us /= norms
+        if empty.any():
+            self._Cs[empty] = 0.0
+            self._ls[empty] = -np.inf
+            self._us[empty] = np.inf
         code = self.strict_backend.solve(
             self._Hs, self._gs, None, None, self._Cs, self._ls, self._us, -self._free, self._free
         )
