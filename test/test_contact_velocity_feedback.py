@@ -41,6 +41,7 @@ def _push(gain=None, force: float = 100.0, duration: float = 0.1, seconds: float
             qc.contacts[leg].set_velocity_feedback_gain(gain)
     home = np.array([0.0, 0.0, STAND_HEIGHT])
     failures, slide, feet0 = 0, 0.0, None
+    run = _push.longest_failed_run = _push.relaxed = 0
     with SimServer(time_step=0.001) as server:
         sim = server.insert_model_from_urdf_file(
             quadruped_urdf(), position=home + [0, 0, 0.001], fixed_base=False
@@ -59,7 +60,11 @@ def _push(gain=None, force: float = 100.0, duration: float = 0.1, seconds: float
                 np.array([0.0, 0.0, -9.81]),
             )
             qc.set_base_target(home)
-            failures += not qc.update(t, dt)
+            ok = qc.update(t, dt)
+            failures += not ok
+            run = 0 if ok else run + 1
+            _push.longest_failed_run = max(_push.longest_failed_run, run)
+            _push.relaxed += qc.controller.contacts_relaxed()
             sim.set_joint_torque_command(qc.controller.get_joint_torque_command(), by_name)
             if 0.5 <= t < 0.5 + duration:
                 sim.apply_external_force('trunk', [0.0, force, 0.0])
@@ -91,3 +96,17 @@ def test_the_gain_is_checked():
     qc = QuadrupedController(robot, 'daqp')
     with pytest.raises(ValueError, match='velocity gain must be >= 0'):
         qc.contacts['FL'].set_velocity_feedback_gain(-1.0)
+
+
+def test_a_harder_push_lets_the_contacts_slip_instead_of_failing():
+    """
+    150 N for 0.1 s: no acceleration keeps the feet still within the cones and limits.
+
+    Before elastic contacts the controller failed ~1500 cycles in a row (holding its last
+    command); now such cycles are solved with the existence conditions as a heavy cost (measured:
+    ~1200 such cycles, 105 failures, longest run 8). The quadruped still tips over: its capture
+    point leaves the feet and it has no stepping (issue 11, open).
+    """
+    _push(gain=0.0, force=150.0, seconds=3.0)
+    assert _push.relaxed > 100
+    assert _push.longest_failed_run <= 10

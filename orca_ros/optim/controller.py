@@ -403,6 +403,10 @@ class Controller:
     def get_return_code(self) -> ReturnCode:
         return self._return_code
 
+    def contacts_relaxed(self) -> bool:
+        """Tell whether the last cycle let the contacts slip (see optim/elastic_contacts.py)."""
+        return self._levels is not None and self._levels.contacts_relaxed
+
     def set_lower_level_damping(self, mu: float) -> None:
         """
         Damp every level below the first in time: + mu ||x - x_prev||^2.

@@ -21,6 +21,7 @@ reference problems, the levels' costs without locks, are made here too).
 
 from __future__ import annotations
 
+from .elastic_contacts import ElasticContacts
 from .lower_level_problem import LowerLevelProblem
 from .resolution_strategy import ResolutionStrategy
 from .solvers import ReturnCode
@@ -77,6 +78,8 @@ class PriorityLevels:
                 else None
             )
         self.set_temporal_damping(lower_damping)
+        self.elastic = ElasticContacts(plan, solver)
+        self.contacts_relaxed = False  # the last cycle's level 0 was solved with elastic contacts
 
     def set_temporal_damping(self, mu: float) -> None:
         """Damp every level below the first in time (LowerLevelProblem.set_temporal_damping)."""
@@ -90,6 +93,7 @@ class PriorityLevels:
         Returns (the problem holding the final solution, its code, whether a level was dropped).
         """
         problems = self.problems
+        self.contacts_relaxed = False
         x_above = None
         solved = problems[0]
         code = ReturnCode.SUCCESS
@@ -108,6 +112,13 @@ class PriorityLevels:
             code = problem.solve()
             if code is not ReturnCode.SUCCESS:
                 if i == 0:
+                    if self.elastic.available:
+                        elastic = self.elastic.solve(problem, deadline, max_iterations)
+                        if elastic is ReturnCode.SUCCESS:
+                            problem.x[:] = self.elastic.x
+                            problem.return_code = elastic
+                            self.contacts_relaxed = True
+                            return problem, elastic, False
                     return problem, code, False
                 # lower levels are feasible by construction (see lower_level_problem); should a
                 # solver still fail, the level is dropped for this cycle: the solution above
