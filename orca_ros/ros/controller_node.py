@@ -133,6 +133,7 @@ class OrcaControllerNode(
         self._safe_reason = None
         self._safe_cause = None
         self.qp_failures = 0
+        self.contacts_relaxed_cycles = 0  # cycles solved with elastic contacts (see optim/)
         self._diagnosed = False
         self.qp_conflict = ''  # what diagnose() said of the last failing spell
         # loop statistics over a bounded window (nothing grows while the node runs)
@@ -379,6 +380,10 @@ class OrcaControllerNode(
                 self._diagnosed = True
                 self._diagnose_failure()
             return
+        if self.controller.contacts_relaxed():
+            self.contacts_relaxed_cycles += 1
+            self.say('warning', 'contacts', 'rigid contacts infeasible: solved with the contacts '
+                     'allowed to slip (elastic existence conditions)')
         cmd = self.controller.get_joint_torque_command()
         if not np.isfinite(cmd).all():
             self._publish_safe(t, 'safe:nonfinite', 'non-finite torque command')
