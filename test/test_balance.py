@@ -115,3 +115,30 @@ def test_balance_leaves_a_target_inside_the_polygon_alone():
     assert f0 == f1 == 0
     assert rooms.min() > 0.03
     np.testing.assert_allclose(moved, moved_free, atol=1e-6)
+
+
+def test_balance_from_yaml():
+    """The shipped quadruped configuration with a ``balance`` constraint and lower-level damping."""
+    from orca_ros.configuration.controller_builder import build_from_config, ConfigError
+    import yaml
+
+    with open(orca.share_path('config', 'quadruped_controller.yaml')) as fh:
+        cfg = yaml.safe_load(fh)['orca_controller']['ros__parameters']
+    cons = cfg['constraints']
+    cons['names'].append('balance')
+    cons['balance'] = {'type': 'balance', 'margin': 0.05, 'max_acceleration': 3.0}
+    cfg['lower_level_damping'] = 20.0
+    setup = build_from_config(cfg)
+    bal = setup.controller.get_constraint('balance')
+    assert isinstance(bal, orca.BalanceConstraint)
+    assert (bal.margin, bal.max_acceleration) == (0.05, 3.0)
+    T = np.eye(4)
+    T[2, 3] = STAND_HEIGHT
+    setup.robot.set_robot_state(T, STAND_Q, np.zeros(6), np.zeros(12), [0.0, 0.0, -9.81])
+    setup.controller.activate_tasks_and_constraints()
+    for k in range(50):  # the contacts ramp in (0.2 s): they support once they carry a load
+        assert setup.controller.update(k * 0.001, 0.001)
+    assert len(bal.polygon) == 4  # the four feet
+    cons['balance']['margin'] = -1.0
+    with pytest.raises(ConfigError, match="constraint 'balance': margin"):
+        build_from_config(cfg)

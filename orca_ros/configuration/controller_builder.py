@@ -24,7 +24,8 @@ Keys (defaults in brackets): ``urdf_path`` or ``robot_description``; ``floating_
 the commands on the wire; the others are welded at their measured positions, see
 :class:`orca_ros.robot.joint_locking.LockedJoints`); ``locked_joint_tolerance`` [1e-4];
 ``solver`` [proxqp]; ``resolution_strategy`` [one_level_weighted];
-``gravity_compensated_by_hardware`` [false]; ``regularisation`` {weight, damping}; ``tasks``:
+``gravity_compensated_by_hardware`` [false]; ``regularisation`` {weight, damping};
+``lower_level_damping`` [0] (strict levels, see Controller.set_lower_level_damping); ``tasks``:
 {names: [...], <name>: {type, ...}}; ``constraints``: {names: [...], <name>: {type, ...}}.
 
 Task types: ``cartesian`` (frame, kp[6|1], kd, ki, target_position, target_rpy),
@@ -35,7 +36,9 @@ active [true], selection, level [0] and, with the ``generalized`` strategy, ``pr
 max_normal_force, min_normal_force, velocity_gain [0 1/s]), ``bilateral_contact`` (frame,
 other_frame). Constraint types: ``joint_torque_limit`` (max or min/max [URDF]),
 ``joint_position_limit`` (horizon, max_acceleration [5], min/max [URDF]), ``joint_velocity_limit``
-(horizon, max [URDF]), ``joint_acceleration_limit`` (max); all take ramp and active [true].
+(horizon, max [URDF]), ``joint_acceleration_limit`` (max), ``balance`` (margin [0.03 m],
+max_acceleration [2 m/s^2], horizon [0.2 s]: the CoM over the contacts' support polygon); all take
+ramp and active [true].
 """
 
 from __future__ import annotations
@@ -46,6 +49,7 @@ import os
 import numpy as np
 
 from ..constraint import (
+    BalanceConstraint,
     BilateralContact,
     Contact,
     JointAccelerationLimitConstraint,
@@ -71,6 +75,7 @@ CONSTRAINT_TYPES = {
     'joint_position_limit': JointPositionLimitConstraint,
     'joint_velocity_limit': JointVelocityLimitConstraint,
     'joint_acceleration_limit': JointAccelerationLimitConstraint,
+    'balance': BalanceConstraint,
 }
 
 
@@ -141,6 +146,8 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         controller.global_regularisation.set_weight(reg['weight'])
     if 'damping' in reg:
         controller.global_regularisation.set_damping(reg['damping'])
+    if 'lower_level_damping' in cfg:
+        controller.set_lower_level_damping(float(cfg['lower_level_damping']))
     setup = ControllerSetup(
         robot,
         controller,
@@ -184,6 +191,8 @@ def build_from_config(cfg: dict) -> ControllerSetup:
             c.set_horizon(float(cc['horizon']))
         if 'max_acceleration' in cc and cc['type'] == 'joint_position_limit':
             c.set_max_acceleration(_vec(cc['max_acceleration'], n, f'{name}.max_acceleration'))
+        if cc['type'] == 'balance':
+            _configure_balance(c, cc, name)
         if 'max' in cc or 'min' in cc:
             default = c.get_limits()
             hi = _vec(cc['max'], n, f'{name}.max') if 'max' in cc else default[1]
@@ -196,6 +205,16 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         c.set_ramp_duration(float(cc.get('ramp', 0.0)))
         setup.initially_active[name] = bool(cc.get('active', True))
     return setup
+
+
+def _configure_balance(c: BalanceConstraint, cc: dict, name: str) -> None:
+    try:
+        if 'margin' in cc:
+            c.set_margin(float(cc['margin']))
+        if 'max_acceleration' in cc:
+            c.set_max_acceleration(float(cc['max_acceleration']))
+    except (TypeError, ValueError) as exc:
+        raise ConfigError(f"constraint '{name}': {exc}") from None
 
 
 def _lock_other_joints(robot: RobotModel, cfg: dict) -> list[str]:
