@@ -118,7 +118,7 @@ def test_balance_leaves_a_target_inside_the_polygon_alone():
 
 
 def test_balance_from_yaml():
-    """The shipped quadruped configuration with a ``balance`` constraint and lower-level damping."""
+    """The shipped quadruped configuration with a balance constraint and lower-level damping."""
     from orca_ros.configuration.controller_builder import build_from_config, ConfigError
     import yaml
 
