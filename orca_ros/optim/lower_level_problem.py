@@ -17,10 +17,12 @@ A priority level below others, solved *relative* to the solution of the level ju
 With x_ref the solution of the level above, the level solves for the step z = x - x_ref:
 
 * the tasks of the levels above are *locked*: their rows diag(s) E_i keep the value they had at
-  x_ref, either exactly (strict priority: z lives in the null space of every locked row and of the
-  constraint equalities, x = x_ref + N y, with N an orthonormal basis from an SVD, so the locks
-  cost no equality row and can never conflict with an inequality) or up to a per-row band |diag(s)
-  E_i z| <= band (the generalized priorities of :mod:`orca_ros.optim.generalized`);
+  x_ref, either exactly (strict priority: diag(s) E_i z = 0, with the constraint equalities
+  A z = 0; DAQP takes them as equality rows, its active set leaving out the rows that depend on
+  others, e.g. the zero rows of unselected components or a task redundant with the ones above;
+  ProxQP and OSQP work in a null-space basis instead, see :mod:`.null_space_step`) or up to a
+  per-row band |diag(s) E_i z| <= band (the generalized priorities of
+  :mod:`orca_ros.optim.generalized`);
 * every inequality and bound of the original problem is kept, relaxed only so that z = 0 stays
   feasible: l' = min(l - C x_ref, 0), u' = max(u - C x_ref, 0). x_ref satisfies the constraints to
   the tolerance of the solver that produced it; without this relaxation a level above sitting on a
@@ -37,11 +39,10 @@ import math
 
 import numpy as np
 
-from .solvers import make_backend, ReturnCode
+from .null_space_step import NullSpaceStep
+from .solvers import make_backend, QPSolver, ReturnCode
 from .weighted_problem import WeightedProblem
 
-_RANK_TOL = 1e-9  # singular values below this (relative to the largest, at least 1) count as zero
-_EMPTY_ROW = 1e-10  # projected rows shorter than this are empty (their unit rows have norm ~1)
 _ROOM_TOL = 1e-6  # bounds closer than this to the level above's solution leave the step no room
 
 
@@ -61,19 +62,16 @@ class LowerLevelProblem(WeightedProblem):
         n_lock = self.n_eq - self.n_eq_constraints
         self.x_ref = np.zeros(nx)
         self.band: np.ndarray | None = None  # None: strict locks
-        # strict form: variables y (nx, padded), rows [C N; N] (inequalities and bounds on x)
-        self._N = np.zeros((nx, nx))
-        self._Hs = np.zeros((nx, nx))
-        self._gs = np.zeros(nx)
-        self._Cs = np.zeros((self.n_in + nx, nx))
-        self._ls = np.zeros(self.n_in + nx)
-        self._us = np.zeros(self.n_in + nx)
-        self._free = np.full(nx, np.inf)
-        self.strict_backend = make_backend(solver, nx, 0, self.n_in + nx, box=False)
+        # strict form: variables z (nx), equalities [A_eq; locks] z = 0, rows C, bounds on z
+        # (DAQP); for the other solvers, in a null-space basis (see null_space_step.py)
+        self._b0 = np.zeros(self.n_eq)
         scale = plan.layout.variable_scale
-        self._scale = None if np.all(scale == 1.0) else scale
-        self._As = np.zeros((self.n_eq, nx))
-        self._damp_w = 1.0 / np.square(scale)  # temporal damping per variable: wrenches in m g
+        if solver is QPSolver.DAQP:
+            self.locked_backend = make_backend(solver, nx, self.n_eq, self.n_in, scale=scale)
+            self._null_space = None
+        else:
+            self._null_space = NullSpaceStep(solver, nx, self.n_eq, self.n_in, scale)
+            self.locked_backend = self._null_space.backend
         # banded form: variables z (nx), equalities A_eq z = 0, rows [C; locks], bounds on z
         self._Ab = np.zeros((self.n_eq_constraints, nx))
         self._bb = np.zeros(self.n_eq_constraints)
@@ -83,7 +81,8 @@ class LowerLevelProblem(WeightedProblem):
         self._lboxb = np.zeros(nx)
         self._uboxb = np.zeros(nx)
         self.banded_backend = None
-        self.null_space_dimension = nx
+        # temporal damping per variable, in the solver's units (wrenches in the robot's weight)
+        self._damp_w = 1.0 / np.square(plan.layout.variable_scale)
         # temporal damping mu ||x - x_prev||^2 (see set_temporal_damping); x_prev: this level's
         # solution of the previous cycle
         self.temporal_damping = 0.0
@@ -110,7 +109,7 @@ class LowerLevelProblem(WeightedProblem):
             self._x_prev = None
 
     def backends(self):
-        return [self.strict_backend, self.banded_backend]
+        return [self.locked_backend, self.banded_backend]
 
     def _make_backend(self):
         return None  # the level's own back-ends are made in __init__ (strict / banded forms)
@@ -161,7 +160,7 @@ class LowerLevelProblem(WeightedProblem):
             self._diag += mw
             self.g -= mw * prev
         try:
-            code, dx = self._solve_strict() if self.band is None else self._solve_banded()
+            code, dx = self._solve_locked() if self.band is None else self._solve_banded()
         finally:
             if mu > 0.0:
                 self._diag -= mw
@@ -184,11 +183,10 @@ class LowerLevelProblem(WeightedProblem):
 
     def _relaxed(self, lo, hi, value, out_lo, out_hi) -> None:
         # room left to the step z, less _ROOM_TOL: the level above meets its bounds only to its
-        # solver's accuracy, and a row that barely touches the null space (norm ~1e-4) turns such
-        # a crumb of room into a large motion; a room of 4e-7 rad/s^2 on a joint resting on its
-        # box bound let the posture level move 31 rad/s^2 along the null space, then nothing the
-        # next cycle (a 3.3 Nm step); less the tolerance, the room is 0 then and grows
-        # continuously
+        # solver's accuracy; a crumb of room left by rounding (4e-7 rad/s^2 on a joint resting on
+        # its bound) let a posture level move far along a direction that barely touches that
+        # joint, and not at all the next cycle (a 3.3 Nm step): less the tolerance, the room is 0
+        # then and grows continuously
         np.subtract(lo, value, out=out_lo)
         out_lo += _ROOM_TOL
         np.minimum(out_lo, 0.0, out=out_lo)
@@ -196,64 +194,14 @@ class LowerLevelProblem(WeightedProblem):
         out_hi -= _ROOM_TOL
         np.maximum(out_hi, 0.0, out=out_hi)
 
-    def _solve_strict(self):
-        nx, n_in = self.layout.nx, self.n_in
-        N = self._N
-        N.fill(0.0)
-        d = self._scale
-        if self.n_eq:
-            # the null space in the solver's units (x = D x~, see solvers/scaled_backend.py)
-            A = self.A if d is None else np.multiply(self.A, d, out=self._As)
-            _, s, vt = np.linalg.svd(A, full_matrices=True)
-            r = int(np.count_nonzero(s > _RANK_TOL * max(1.0, s[0] if s.size else 0.0)))
-        else:
-            vt, r = np.eye(nx), 0
-        k = nx - r
-        self.null_space_dimension = k
-        if k == 0:  # the levels above use every degree of freedom: nothing left to optimise
-            return ReturnCode.SUCCESS, np.zeros(nx)
-        N[:, :k] = vt[r:].T
-        if d is not None:
-            N *= d[:, None]  # x - x_ref = D N~ y
-        HN = self.H @ N
-        np.dot(N.T, HN, out=self._Hs)
-        self._Hs[range(k, nx), range(k, nx)] = 1.0  # padding variables: zero columns, pinned at 0
-        np.dot(N.T, self.H @ self.x_ref + self.g, out=self._gs)
-        if n_in:
-            np.dot(self.C, N, out=self._Cs[:n_in])
-            self._relaxed(self.l, self.u, self.C @ self.x_ref, self._ls[:n_in], self._us[:n_in])
-        self._Cs[n_in:] = N
-        self._relaxed(self.lbox, self.ubox, self.x_ref, self._ls[n_in:], self._us[n_in:])
-        # rows of very different scales (torques, accelerations, projected onto N) slow the solvers
-        # down on these often degenerate problems: normalise them (empty rows are always satisfied)
-        norms = np.linalg.norm(self._Cs, axis=1)
-        # a row orthogonal to the null space (a joint the levels above fix entirely) is rounding
-        # noise (~1e-16): normalised, its sign would cut the step's space in half at random (a
-        # posture level stopped dead for one cycle: a 3.5 Nm step); it constrains nothing
-        empty = norms < _EMPTY_ROW
-        norms[empty] = 1.0
-        self._Cs /= norms[:, None]
-        self._ls /= norms
-        self._us /= norms
-        if empty.any():
-            self._Cs[empty] = 0.0
-            self._ls[empty] = -np.inf
-            self._us[empty] = np.inf
-        code = self.strict_backend.solve(
-            self._Hs, self._gs, None, None, self._Cs, self._ls, self._us, -self._free, self._free
-        )
-        if code is not ReturnCode.SUCCESS:
-            return code, None
-        return code, N @ self.strict_backend.x
-
     def _solve_banded(self):
         nx, n_in, ne = self.layout.nx, self.n_in, self.n_eq_constraints
         if self.banded_backend is None:
             self.banded_backend = make_backend(
                 self.solver_type, nx, ne, self._Cb.shape[0], scale=self.layout.variable_scale
             )
-            self.banded_backend.deadline = self.strict_backend.deadline
-            self.banded_backend.max_iterations = self.strict_backend.max_iterations
+            self.banded_backend.deadline = self.locked_backend.deadline
+            self.banded_backend.max_iterations = self.locked_backend.max_iterations
         self._Ab[:] = self.A[
             :ne
         ]  # x_ref satisfies the equalities: keep them as they are (A z = 0)
@@ -269,6 +217,24 @@ class LowerLevelProblem(WeightedProblem):
             self.H, g, self._Ab, self._bb, self._Cb, self._lb, self._ub, self._lboxb, self._uboxb
         )
         return code, (self.banded_backend.x if code is ReturnCode.SUCCESS else None)
+
+    def _solve_locked(self):
+        n_in = self.n_in
+        g = self.H @ self.x_ref + self.g
+        if n_in:
+            self._relaxed(self.l, self.u, self.C @ self.x_ref, self._lb[:n_in], self._ub[:n_in])
+        self._relaxed(self.lbox, self.ubox, self.x_ref, self._lboxb, self._uboxb)
+        if self._null_space is not None:
+            return self._null_space.solve(
+                self.H, g, self.A, self.C, self._lb[:n_in], self._ub[:n_in],
+                self._lboxb, self._uboxb,
+            )
+        b = self.locked_backend
+        code = b.solve(
+            self.H, g, self.A, self._b0, self.C, self._lb[:n_in], self._ub[:n_in],
+            self._lboxb, self._uboxb,
+        )
+        return code, (b.x if code is ReturnCode.SUCCESS else None)
 
     def lock_rows(self) -> int:
         return self.n_eq - self.n_eq_constraints
