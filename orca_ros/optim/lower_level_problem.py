@@ -64,11 +64,17 @@ class LowerLevelProblem(WeightedProblem):
         self.band: np.ndarray | None = None  # None: strict locks
         # strict form: variables z (nx), equalities [A_eq; locks] z = 0, rows C, bounds on z
         # (DAQP); for the other solvers, in a null-space basis (see null_space_step.py)
-        self._b0 = np.zeros(self.n_eq)
         scale = plan.layout.variable_scale
+        ne, ni = self.n_eq, self.n_in
         if solver is QPSolver.DAQP:
-            self.locked_backend = make_backend(solver, nx, self.n_eq, self.n_in, scale=scale)
+            self.locked_backend = make_backend(solver, nx, ne, ni, scale=scale)
             self._null_space = None
+            # DAQP's stacked layout, written in place: M = [A; C] (self.A, where lock() writes the
+            # lock rows, is a view on it), lo = [lbox'; 0; l'], hi = [ubox'; 0; u']
+            self._M = np.zeros((ne + ni, nx))
+            self._M[:ne] = self.A
+            self.A = self._M[:ne]
+            self._lo, self._hi = np.zeros(nx + ne + ni), np.zeros(nx + ne + ni)
         else:
             self._null_space = NullSpaceStep(solver, nx, self.n_eq, self.n_in, scale)
             self.locked_backend = self._null_space.backend
@@ -160,7 +166,12 @@ class LowerLevelProblem(WeightedProblem):
             self._diag += mw
             self.g -= mw * prev
         try:
-            code, dx = self._solve_locked() if self.band is None else self._solve_banded()
+            if self.band is not None:
+                code, dx = self._solve_banded()
+            elif self._null_space is None:
+                code, dx = self._solve_locked_stacked()
+            else:
+                code, dx = self._solve_locked()
         finally:
             if mu > 0.0:
                 self._diag -= mw
@@ -219,21 +230,27 @@ class LowerLevelProblem(WeightedProblem):
         return code, (self.banded_backend.x if code is ReturnCode.SUCCESS else None)
 
     def _solve_locked(self):
+        """Solve the strict form in a null-space basis (ProxQP, OSQP)."""
         n_in = self.n_in
         g = self.H @ self.x_ref + self.g
         if n_in:
             self._relaxed(self.l, self.u, self.C @ self.x_ref, self._lb[:n_in], self._ub[:n_in])
         self._relaxed(self.lbox, self.ubox, self.x_ref, self._lboxb, self._uboxb)
-        if self._null_space is not None:
-            return self._null_space.solve(
-                self.H, g, self.A, self.C, self._lb[:n_in], self._ub[:n_in],
-                self._lboxb, self._uboxb,
-            )
-        b = self.locked_backend
-        code = b.solve(
-            self.H, g, self.A, self._b0, self.C, self._lb[:n_in], self._ub[:n_in],
-            self._lboxb, self._uboxb,
+        return self._null_space.solve(
+            self.H, g, self.A, self.C, self._lb[:n_in], self._ub[:n_in], self._lboxb, self._uboxb
         )
+
+    def _solve_locked_stacked(self):
+        """Solve the strict form in DAQP's layout: nothing copied but the inequality rows."""
+        nx, ne, ni = self.layout.nx, self.n_eq, self.n_in
+        lo, hi = self._lo, self._hi
+        g = self.H @ self.x_ref + self.g
+        if ni:
+            self._M[ne:] = self.C
+            self._relaxed(self.l, self.u, self.C @ self.x_ref, lo[nx + ne:], hi[nx + ne:])
+        self._relaxed(self.lbox, self.ubox, self.x_ref, lo[:nx], hi[:nx])
+        b = self.locked_backend
+        code = b.solve_stacked(self.H, g, self._M, lo, hi)
         return code, (b.x if code is ReturnCode.SUCCESS else None)
 
     def lock_rows(self) -> int:
