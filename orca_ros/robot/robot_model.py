@@ -35,18 +35,17 @@ import os
 import numpy as np
 import pinocchio as pin
 
-from . import frame_kinematics as fk
 from . import state_input
 from .com_kinematics import ComKinematics
+from .frame_api import FrameApiMixin
 from .joint_locking import JointLockingMixin
 from ..utils.logger import get_logger
 
 _LOG = get_logger('robot')
 WORLD_FRAME = 'world'
-_LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 
-class RobotModel(JointLockingMixin):
+class RobotModel(FrameApiMixin, JointLockingMixin):
     """
     Kinematic/dynamic model of a robot.
 
@@ -346,28 +345,6 @@ class RobotModel(JointLockingMixin):
             - self.get_generalized_gravity_torques()
         )[self.nbase:].copy()
 
-    # ------------------------------------------------------------------ frames (world aligned,
-    # cached)
-    def world_frame_terms(self, fid: int):
-        """
-        (world_H_frame, J, velocity, bias acceleration) of frame ``fid`` in world axes.
-
-        Cached per state.
-        """
-        hit = self._frame_cache.get(fid)
-        if hit is not None and hit[0] == self._stamp:
-            return hit[1]
-        self._update_terms()
-        m, d = self.model, self.data
-        T = pin.updateFramePlacement(m, d, fid).homogeneous
-        J = pin.getFrameJacobian(m, d, fid, _LWA)
-        vel = pin.getFrameVelocity(m, d, fid, _LWA).vector
-        acc = pin.getFrameClassicalAcceleration(m, d, fid, _LWA).vector
-        # Pinocchio spatial vectors are [linear; angular], as our Jacobians
-        terms = (T, J, vel, acc)
-        self._frame_cache[fid] = (self._stamp, terms)
-        return terms
-
     def _com_kinematics(self) -> ComKinematics:
         self._require_model()
         if self._com is None:
@@ -387,88 +364,6 @@ class RobotModel(JointLockingMixin):
 
     def get_total_mass(self) -> float:
         return self._com_kinematics().mass
-
-    def _base_terms(self):
-        if self._base_is_world:
-            return None
-        if self._base_static:
-            return self._base_static_T, None, None, None
-        return self.world_frame_terms(self._base_fid)
-
-    def frame_terms(self, frame_id: int):
-        """
-        Return the kinematics of a frame in the base frame.
-
-        (pose 4x4, Jacobian 6xnv, velocity 6, bias acceleration 6).
-        """
-        tip = self.world_frame_terms(frame_id)
-        base = self._base_terms()
-        if base is None:
-            return tip
-        Tb, Jb, vb, ab = base
-        Tf, Jf, vf, af = tip
-        if Jb is None:  # static base: pure rotation/translation of constant frame
-            Rbt = Tb[:3, :3].T
-            pose = fk.relative_pose(Tb, Tf)
-            J = np.vstack((Rbt @ Jf[:3], Rbt @ Jf[3:]))
-            return (
-                pose,
-                J,
-                np.concatenate((Rbt @ vf[:3], Rbt @ vf[3:])),
-                np.concatenate((Rbt @ af[:3], Rbt @ af[3:])),
-            )
-        return (
-            fk.relative_pose(Tb, Tf),
-            fk.relative_jacobian(Tb, Jb, Tf, Jf),
-            fk.relative_velocity(Tb, vb, Tf, vf),
-            fk.relative_bias_acceleration(Tb, vb, ab, Tf, vf, af),
-        )
-
-    def get_frame_pose(self, frame: str) -> np.ndarray:
-        """4x4 pose of ``frame`` in the base frame."""
-        return self.frame_terms(self.get_frame_id(frame))[0].copy()
-
-    def get_frame_jacobian(self, frame: str) -> np.ndarray:
-        return self.frame_terms(self.get_frame_id(frame))[1].copy()
-
-    def get_frame_velocity(self, frame: str) -> np.ndarray:
-        return self.frame_terms(self.get_frame_id(frame))[2].copy()
-
-    def get_frame_bias_acceleration(self, frame: str) -> np.ndarray:
-        """
-        Return J_dot * nu of ``frame`` in the base frame.
-
-        It is the acceleration at zero generalized acceleration.
-        """
-        return self.frame_terms(self.get_frame_id(frame))[3].copy()
-
-    def _world_or_frame(self, frame: str):
-        fid = self.get_frame_id(frame)
-        if fid < 0:
-            nv = self.model.nv
-            return np.eye(4), np.zeros((6, nv)), np.zeros(6), np.zeros(6)
-        return self.world_frame_terms(fid)
-
-    def get_relative_transform(self, reference_frame: str, frame: str) -> np.ndarray:
-        """reference_H_frame."""
-        return fk.relative_pose(
-            self._world_or_frame(reference_frame)[0], self._world_or_frame(frame)[0]
-        )
-
-    def get_relative_jacobian(self, reference_frame: str, frame: str) -> np.ndarray:
-        Tb, Jb, _, _ = self._world_or_frame(reference_frame)
-        Tf, Jf, _, _ = self._world_or_frame(frame)
-        return fk.relative_jacobian(Tb, Jb, Tf, Jf)
-
-    def get_relative_velocity(self, reference_frame: str, frame: str) -> np.ndarray:
-        Tb, _, vb, _ = self._world_or_frame(reference_frame)
-        Tf, _, vf, _ = self._world_or_frame(frame)
-        return fk.relative_velocity(Tb, vb, Tf, vf)
-
-    def get_relative_bias_acceleration(self, reference_frame: str, frame: str) -> np.ndarray:
-        Tb, _, vb, ab = self._world_or_frame(reference_frame)
-        Tf, _, vf, af = self._world_or_frame(frame)
-        return fk.relative_bias_acceleration(Tb, vb, ab, Tf, vf, af)
 
     def print(self) -> None:  # noqa: A003 (ORCA API name)
         lo, hi = self._pos_limits
