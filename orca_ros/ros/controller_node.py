@@ -44,16 +44,15 @@ from .common import (
     DESCRIPTION_QOS,
     nested_parameters,
     param,
-    pose_to_matrix,
     run_node,
-    stamp_to_sec,
     STATE_QOS,
 )
 from .controller_diagnostics import ControllerDiagnostics
 from .controller_interfaces import ControllerInterfaces
 from .guarded_node import GuardedNode
-from .joint_state_input import JointStateInput, StateRejected
+from .joint_state_input import JointStateInput
 from .live_parameters import LiveParameters
+from .state_reception import StateReception
 from .target_smoothing import TargetSmoothing
 from ..configuration import build_from_config
 from ..safety import SafeCommand
@@ -61,7 +60,12 @@ from ..utils.ring_buffer import RingBuffer
 
 
 class OrcaControllerNode(
-    GuardedNode, ControllerInterfaces, ControllerDiagnostics, TargetSmoothing, LiveParameters
+    GuardedNode,
+    StateReception,
+    ControllerInterfaces,
+    ControllerDiagnostics,
+    TargetSmoothing,
+    LiveParameters,
 ):
     def __init__(self, **kwargs):
         super().__init__(
@@ -224,103 +228,6 @@ class OrcaControllerNode(
         )
 
     # -------------------------------------------------------------- state input
-    def _on_joint_state(self, msg: JointState) -> None:
-        try:
-            self._input.read(msg.name, msg.position, msg.velocity, self._q_in, self._v_in)
-        except StateRejected as exc:
-            self.say('error', exc.cause, str(exc))
-            return
-        stamp = stamp_to_sec(msg.header.stamp)
-        if (
-            self.trigger == 'joint_state'
-            and self._state_stamp is not None
-            and stamp <= self._state_stamp
-        ):
-            self._state_wall = time.monotonic()
-            # a repeated state: the simulator re-announces itself when no command reached it (e.g.
-            # sent before discovery matched it). Computing again would add a step; the command of
-            # that instant is sent again
-            if stamp == self._computed_stamp and not self._stopped:
-                self.pub_cmd.publish(self._cmd_msg)
-            return
-        self._q[:] = self._q_in
-        self._v[:] = self._v_in
-        self._locked_q[:] = self._input.locked_positions
-        self._state_wall = time.monotonic()
-        self._state_stamp = stamp
-        self._on_new_state()
-
-    def _on_odom(self, msg: Odometry) -> None:
-        p, o = msg.pose.pose.position, msg.pose.pose.orientation
-        tw = msg.twist.twist
-        vals = np.array(
-            [
-                p.x,
-                p.y,
-                p.z,
-                o.x,
-                o.y,
-                o.z,
-                o.w,
-                tw.linear.x,
-                tw.linear.y,
-                tw.linear.z,
-                tw.angular.x,
-                tw.angular.y,
-                tw.angular.z,
-            ],
-            dtype=float,
-        )
-        if (
-            not np.isfinite(vals).all()
-            or np.abs(vals).max() > 1e6
-            or not 0.5 < np.abs(vals[3:7]).sum() < 2.5
-        ):
-            self.say(
-                'error', 'odom', 'odom rejected: NaN, absurd (> 1e6) or non-unit-quaternion values'
-            )
-            return
-        T = pose_to_matrix(msg.pose.pose)
-        R = T[:3, :3]
-        self._base_T[:] = T
-        self._base_twist[:3] = R @ vals[7:10]  # child frame -> world axes
-        self._base_twist[3:] = R @ vals[10:13]
-        self._odom_stamp = stamp_to_sec(msg.header.stamp)
-        self._odom_wall = time.monotonic()
-        self._on_new_state()
-
-    def _state_ready(self) -> bool:
-        if self._state_stamp is None:
-            return False
-        return not self.floating or self._odom_stamp is not None
-
-    def _apply_state(self) -> None:
-        if self._locked:
-            self.robot.set_locked_joint_positions(self._locked_q)  # re-welds when they moved
-        if self.floating:
-            self.robot.set_robot_state(
-                self._base_T, self._q, self._base_twist, self._v, self._gravity
-            )
-        else:
-            self.robot.set_robot_state(self._q, self._v)
-
-    def _on_new_state(self) -> None:
-        if not self._state_ready():
-            return
-        if not self._have_state:
-            self._have_state = True
-            self._apply_state()
-            self.get_logger().info('first joint state received: control starts')
-        if self.trigger == 'joint_state':
-            # lockstep: one step per simulated instant, once joint state (and odom) of that instant
-            # are in
-            if self.floating and self._odom_stamp != self._state_stamp:
-                return
-            if self._computed_stamp == self._state_stamp:
-                return
-            self._computed_stamp = self._state_stamp
-            self._control_step()
-
     # -------------------------------------------------------------- control
     def _now(self) -> float:
         # lockstep runs follow the simulated time stamped on the states (deterministic); others the
