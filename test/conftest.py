@@ -81,6 +81,32 @@ def example_robot_urdf():
     return find
 
 
+@pytest.fixture(scope='session')
+def talos_standing(example_robot_urdf):
+    """Make Talos (talos_reduced, floating base) in half-sitting, soles on z = 0: (robot, q)."""
+    import orca_ros as orca
+    import pinocchio as pin
+
+    def make():
+        robot = orca.RobotModel()
+        robot.load_model_from_file(
+            example_robot_urdf('talos_data/robots/talos_reduced.urdf'), floating_base=True
+        )
+        model = robot.model
+        srdf = example_robot_urdf('talos_data/srdf/talos.srdf')
+        pin.loadReferenceConfigurations(model, srdf, False)
+        q = np.array(model.referenceConfigurations['half_sitting'])
+        data = model.createData()
+        pin.framesForwardKinematics(model, data, q)
+        soles = ('leg_left_sole_fix_joint', 'leg_right_sole_fix_joint')
+        q[2] -= min(data.oMf[model.getFrameId(f)].translation[2] for f in soles)
+        robot.set_base_frame('world')
+        robot.set_configuration(q, np.zeros(model.nv))
+        return robot, q
+
+    return make
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(1234)

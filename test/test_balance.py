@@ -24,12 +24,13 @@ import numpy as np
 import orca_ros as orca
 from orca_ros.constraint import convex_hull_2d
 from orca_ros.examples.quadruped import (
+    insert_standing,
     LEGS,
     make_robot,
-    quadruped_urdf,
     QuadrupedController,
     STAND_HEIGHT,
     STAND_Q,
+    state_from_sim,
 )
 from orca_ros.sim import SimServer
 import pytest
@@ -56,21 +57,10 @@ def _run(balance: bool, offset, seconds: float = 3.0):
     home = np.array([0.0, 0.0, STAND_HEIGHT])
     failures, rooms, c0 = 0, [], None
     with SimServer(time_step=0.001) as server:
-        sim = server.insert_model_from_urdf_file(
-            quadruped_urdf(), position=home + [0, 0, 0.001], fixed_base=False
-        )
-        names = robot.get_joint_names()
-        sim.set_model_configuration(names, STAND_Q)
-        by_name = sim.joint_map(names)
+        sim, by_name = insert_standing(server)
         for k in range(int(round(seconds / 0.001))):
             t = k * 0.001
-            robot.set_robot_state(
-                sim.get_world_to_base_transform(),
-                sim.get_joint_positions(by_name),
-                sim.get_base_velocity(),
-                sim.get_joint_velocities(by_name),
-                np.array([0.0, 0.0, -9.81]),
-            )
+            state_from_sim(robot, sim, by_name)
             if c0 is None:
                 c0 = robot.get_center_of_mass()
             qc.set_base_target(home)

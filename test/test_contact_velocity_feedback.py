@@ -22,12 +22,12 @@ mm.
 
 import numpy as np
 from orca_ros.examples.quadruped import (
+    insert_standing,
     LEGS,
     make_robot,
-    quadruped_urdf,
     QuadrupedController,
     STAND_HEIGHT,
-    STAND_Q,
+    state_from_sim,
 )
 from orca_ros.sim import SimServer
 import pytest
@@ -43,22 +43,11 @@ def _push(gain=None, force: float = 100.0, duration: float = 0.1, seconds: float
     failures, slide, feet0 = 0, 0.0, None
     run = _push.longest_failed_run = _push.relaxed = 0
     with SimServer(time_step=0.001) as server:
-        sim = server.insert_model_from_urdf_file(
-            quadruped_urdf(), position=home + [0, 0, 0.001], fixed_base=False
-        )
-        names = robot.get_joint_names()
-        sim.set_model_configuration(names, STAND_Q)
-        by_name = sim.joint_map(names)
+        sim, by_name = insert_standing(server)
         dt = server.time_step
         for k in range(int(round(seconds / dt))):
             t = k * dt
-            robot.set_robot_state(
-                sim.get_world_to_base_transform(),
-                sim.get_joint_positions(by_name),
-                sim.get_base_velocity(),
-                sim.get_joint_velocities(by_name),
-                np.array([0.0, 0.0, -9.81]),
-            )
+            state_from_sim(robot, sim, by_name)
             qc.set_base_target(home)
             ok = qc.update(t, dt)
             failures += not ok

@@ -53,26 +53,14 @@ def test_wrench_cone_is_exactly_the_corner_pyramids():
 
 
 @pytest.mark.parametrize('solver', ['daqp', 'proxqp', 'osqp'])
-def test_talos_on_two_soles_has_full_rank_equalities(solver, example_robot_urdf):
+def test_talos_on_two_soles_has_full_rank_equalities(solver, talos_standing):
     """
     Talos (example-robot-data, 38 DoF) on both soles.
 
     6 + 2 x 6 equality rows of full rank (as 8 corner point contacts they were 30 rows of rank 18,
     and ProxQP called the problem infeasible).
     """
-    import pinocchio as pin
-
-    robot = orca.RobotModel()
-    robot.load_model_from_file(
-        example_robot_urdf('talos_data/robots/talos_reduced.urdf'), floating_base=True
-    )
-    model = robot.model
-    pin.loadReferenceConfigurations(model, example_robot_urdf('talos_data/srdf/talos.srdf'), False)
-    q = np.array(model.referenceConfigurations['half_sitting'])
-    robot.set_base_frame('world')
-    robot.set_robot_state(
-        pin.XYZQUATToSE3(q[:7]).homogeneous, q[7:], np.zeros(6), np.zeros(32), [0, 0, -9.81]
-    )
+    robot, _ = talos_standing()
     c = orca.Controller('c', robot, solver=solver)
     soles = [
         c.add_constraint(orca.SurfaceContact(f, f, CORNERS, friction_coefficient=0.3))

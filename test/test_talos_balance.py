@@ -33,21 +33,8 @@ OMEGA = 2.0 * np.pi * 0.5
 AMPLITUDE = 0.05
 
 
-def _talos(example_robot_urdf, solver):
-    import pinocchio as pin
-
-    robot = orca.RobotModel()
-    robot.load_model_from_file(
-        example_robot_urdf('talos_data/robots/talos_reduced.urdf'), floating_base=True
-    )
-    model = robot.model
-    pin.loadReferenceConfigurations(model, example_robot_urdf('talos_data/srdf/talos.srdf'), False)
-    q = np.array(model.referenceConfigurations['half_sitting'])
-    data = model.createData()
-    pin.framesForwardKinematics(model, data, q)
-    q[2] -= min(data.oMf[model.getFrameId(f)].translation[2] for f in SOLES)  # soles on z = 0
-    robot.set_base_frame('world')
-    robot.set_configuration(q, np.zeros(model.nv))
+def _talos(talos_standing, solver):
+    robot, q = talos_standing()
     c = orca.Controller('talos', robot, solver=solver)
     for f in SOLES:
         c.add_constraint(orca.SurfaceContact(f, f, CORNERS, friction_coefficient=0.3))
@@ -89,8 +76,8 @@ def _sway(robot, c, com, q, duration):
     return np.array(errors), failures, drift
 
 
-def test_talos_sways_its_com_with_default_settings(example_robot_urdf):
-    robot, c, com, q = _talos(example_robot_urdf, 'daqp')
+def test_talos_sways_its_com_with_default_settings(talos_standing):
+    robot, c, com, q = _talos(talos_standing, 'daqp')
     errors, failures, drift = _sway(robot, c, com, q, 10.0)
     rms = float(np.sqrt(np.mean(errors**2)))
     assert failures == 0
@@ -99,13 +86,13 @@ def test_talos_sways_its_com_with_default_settings(example_robot_urdf):
 
 
 @pytest.mark.parametrize('solver', ['proxqp', 'osqp'])
-def test_talos_solvers_agree_with_the_default(example_robot_urdf, solver):
+def test_talos_solvers_agree_with_the_default(talos_standing, solver):
     """
     Every back-end solves the scaled problem alike (1e-6 relative), cycle after cycle.
 
     A 3 cm CoM step: one sole nearly unloaded, the wrench block degenerate.
     """
-    runs = [_talos(example_robot_urdf, s) for s in ('daqp', solver)]
+    runs = [_talos(talos_standing, s) for s in ('daqp', solver)]
     import pinocchio as pin
 
     (r0, c0, com0, q), (r1, c1, com1, _) = runs

@@ -233,6 +233,27 @@ def sinusoid(s: float, amplitude: float, period: float, duration: float):
     )
 
 
+def insert_standing(server):
+    """Insert the quadruped standing 1 mm above the ground; return (sim model, joint map)."""
+    sim = server.insert_model_from_urdf_file(
+        quadruped_urdf(), position=[0.0, 0.0, STAND_HEIGHT + 0.001], fixed_base=False
+    )
+    names = make_robot().get_joint_names()
+    sim.set_model_configuration(names, STAND_Q)
+    return sim, sim.joint_map(names)  # Pinocchio's joint order <-> PyBullet's (the file's)
+
+
+def state_from_sim(robot: RobotModel, sim, by_name) -> None:
+    """Give the robot model the simulated state (base pose and twist, joints by name)."""
+    robot.set_robot_state(
+        sim.get_world_to_base_transform(),
+        sim.get_joint_positions(by_name),
+        sim.get_base_velocity(),
+        sim.get_joint_velocities(by_name),
+        GRAVITY,
+    )
+
+
 def run_in_pybullet(
     scenario: str = 'all',
     solver='daqp',
@@ -253,24 +274,13 @@ def run_in_pybullet(
     log = RunLog()
     phases = {}
     with SimServer(gui=gui, time_step=0.001) as server:
-        sim = server.insert_model_from_urdf_file(
-            quadruped_urdf(), position=home + [0, 0, 0.001], fixed_base=False
-        )
-        names = robot.get_joint_names()
-        sim.set_model_configuration(names, STAND_Q)
-        by_name = sim.joint_map(names)  # Pinocchio's joint order <-> PyBullet's (the file's)
+        sim, by_name = insert_standing(server)
         dt = server.time_step
         state = {'t': 0.0}
 
         def step(target, vel=None, acc=None):
             t = state['t']
-            robot.set_robot_state(
-                sim.get_world_to_base_transform(),
-                sim.get_joint_positions(by_name),
-                sim.get_base_velocity(),
-                sim.get_joint_velocities(by_name),
-                GRAVITY,
-            )
+            state_from_sim(robot, sim, by_name)
             qc.set_base_target(target, vel, acc)
             if not qc.update(t, dt):
                 log.failures += 1
