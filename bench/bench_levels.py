@@ -21,7 +21,7 @@ elsewhere (level 1), joint posture (level 2). Rows:
   * multi_level_weighted with 1, 2 and 3 levels (the first 1, 2 or 3 tasks);
   * generalized with priority 0.5 between every pair of levels (two QPs per level below the first).
 
-Usage: python bench/bench_levels.py [--cycles 3000]
+Usage: python bench/bench_levels.py [--cycles 3000] [--rounds 5] [--solvers daqp,proxqp,osqp]
 """
 
 from __future__ import annotations
@@ -99,21 +99,45 @@ def main(argv=None) -> int:
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     ap.add_argument('--cycles', type=int, default=3000)
+    ap.add_argument('--rounds', type=int, default=5, help='interleaved rounds (medians reported)')
+    ap.add_argument('--solvers', default='daqp,proxqp,osqp')
     args = ap.parse_args(argv)
+    solvers = args.solvers.split(',')
     rows = [('one_level_weighted', 3, None)]
     rows += [('multi_level_weighted', n, None) for n in (1, 2, 3)]
     rows += [('generalized', n, 0.5) for n in (2, 3)]
     print(
-        f'update() timing with priority levels, lwr 7-DoF closed loop, {args.cycles} cycles '
-        '(microseconds)'
+        f'update() timing with priority levels, lwr 7-DoF closed loop, {args.cycles} cycles per '
+        f'row, median over {args.rounds} interleaved rounds (microseconds)'
     )
+    results = {}
+    for _ in range(args.rounds):  # interleaved: a busy spell of the machine hits every row alike
+        for strategy, n, prio in rows:
+            for solver in solvers:
+                run(strategy, solver, n, 200, prio)  # warm-up
+                results.setdefault((strategy, n, solver), []).append(
+                    run(strategy, solver, n, args.cycles, prio)
+                )
     print(f'{"strategy":<22}{"levels":>7}{"solver":>8}{"median":>9}{"p99":>9}{"held":>6}')
-    for strategy, n, prio in rows:
-        for solver in ('daqp', 'proxqp', 'osqp'):
-            run(strategy, solver, n, 200, prio)  # warm-up
-            med, p99, held = run(strategy, solver, n, args.cycles, prio)
-            levels = 1 if strategy == 'one_level_weighted' else n
-            print(f'{strategy:<22}{levels:>7}{solver:>8}{med:>9.1f}{p99:>9.1f}{held:>6}')
+    med = {}
+    for (strategy, n, solver), runs in results.items():
+        med[(strategy, n, solver)] = float(np.median([r[0] for r in runs]))
+        p99 = float(np.median([r[1] for r in runs]))
+        held = int(max(r[2] for r in runs))
+        levels = 1 if strategy == 'one_level_weighted' else n
+        print(f'{strategy:<22}{levels:>7}{solver:>8}{med[(strategy, n, solver)]:>9.1f}'
+              f'{p99:>9.1f}{held:>6}')
+    # issue 9: each added level <= 0.5x a one-level cycle, read two ways
+    for solver in solvers:
+        one = med[('one_level_weighted', 3, solver)]
+        multi = [med[('multi_level_weighted', n, solver)] for n in (1, 2, 3)]
+        same = (multi[2] - one) / 2.0 / one
+        grow = [(multi[k] - multi[k - 1]) / multi[0] for k in (1, 2)]
+        print(
+            f'{solver}: the same 3 tasks in 3 levels instead of 1: {same:.2f}x the one-level '
+            f'cycle per added level; a level added with its task: {grow[0]:.2f}x, {grow[1]:.2f}x '
+            'of the 1-task cycle'
+        )
     return 0
 
 
