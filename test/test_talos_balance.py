@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-Talos (example-robot-data, 38 DoF, ~94 kg) on two soles with default settings (issue 11, item 1).
+Talos (example-robot-data, 38 DoF, ~90 kg) on two soles with default settings (issue 11, item 1).
 
 The soles are SurfaceContacts with 4-face corner pyramids; the CoM sways +-5 cm sideways at 0.5 Hz
 for 10 s under kinematic integration of the solution. Before the regularisation was put in units
