@@ -132,3 +132,20 @@ def test_balance_from_yaml():
     cons['balance']['margin'] = -1.0
     with pytest.raises(ConfigError, match="constraint 'balance': margin"):
         build_from_config(cfg)
+
+
+def test_a_bilateral_contact_supports_too():
+    """A welded foot (BilateralContact, no normal-force bound) counts as one support point."""
+    robot = make_robot()
+    c = orca.Controller('c', robot)
+    c.add_constraint(orca.BilateralContact('FL_weld', 'FL_foot'))
+    for leg in ('FR', 'HL', 'HR'):
+        c.add_constraint(orca.Contact(f'{leg}_contact', f'{leg}_foot'))
+    bal = c.add_constraint(orca.BalanceConstraint('balance'))
+    c.add_task(orca.CoMTask, 'com')
+    for o in c.get_tasks() + c.get_constraints():
+        o.set_ramp_duration(0.0)
+    c.activate_tasks_and_constraints()
+    assert c.update(0.0, 0.001)
+    feet = np.array([robot.get_frame_pose(f'{leg}_foot')[:2, 3] for leg in LEGS])
+    assert sorted(map(tuple, bal.polygon.round(6))) == sorted(map(tuple, feet.round(6)))

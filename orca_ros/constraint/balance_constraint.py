@@ -62,6 +62,12 @@ def convex_hull_2d(points: np.ndarray) -> np.ndarray:
     return np.array(lower[:-1] + upper[:-1], dtype=float)
 
 
+def _carries_load(contact) -> bool:
+    """Tell whether a contact may carry load now (one ramping in from 0 may not yet)."""
+    bound = getattr(contact, 'normal_force_bound', None)  # bilateral contacts have none
+    return bound is None or bound() > 0.0
+
+
 class BalanceConstraint(GenericConstraint):
     def __init__(
         self,
@@ -110,7 +116,7 @@ class BalanceConstraint(GenericConstraint):
         pts = [
             c.support_points()[:, :2]
             for c in self.layout.contacts
-            if c.is_computing() and c.normal_force_bound() > 0.0
+            if c.is_computing() and _carries_load(c)
         ]
         return np.concatenate(pts) if pts else np.zeros((0, 2))
 
