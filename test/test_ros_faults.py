@@ -23,7 +23,8 @@ line names the cause, and a target is reached afterwards.
 import time
 
 import numpy as np
-from orca_ros.ros.launch_free import ARM_Q0, free_domain_id, Probe, Procs
+from orca_ros.ros.launch_free import ARM_Q0, free_domain_id, Procs
+from orca_ros.ros.probe import Probe
 import pytest
 from std_srvs.srv import Trigger
 

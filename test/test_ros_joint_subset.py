@@ -23,7 +23,8 @@ import os
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.ros.launch_free import free_domain_id, Probe, Procs
+from orca_ros.ros.launch_free import free_domain_id, Procs
+from orca_ros.ros.probe import Probe
 import pybullet_data
 
 URDF = os.path.join(pybullet_data.getDataPath(), 'franka_panda', 'panda.urdf')

@@ -18,7 +18,8 @@ Lockstep, private ROS domain, localhost discovery.
 """
 
 import numpy as np
-from orca_ros.ros.launch_free import free_domain_id, Probe, Procs
+from orca_ros.ros.launch_free import free_domain_id, Procs
+from orca_ros.ros.probe import Probe
 import pytest
 from std_srvs.srv import SetBool, Trigger
 

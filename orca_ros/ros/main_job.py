@@ -34,7 +34,8 @@ import time
 
 import numpy as np
 
-from .launch_free import free_domain_id, Probe, Procs
+from .launch_free import free_domain_id, Procs
+from .probe import Probe
 
 OFFSETS = [
     np.array(o)
