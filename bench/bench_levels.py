@@ -32,36 +32,21 @@ import time
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.examples.common import add_standard_constraints, integrate
-
-Q0 = np.array([0.3, 0.7, -0.2, -1.1, 0.4, 0.6, 0.1])
+from orca_ros.examples.common import (
+    add_conflicting_stack,
+    add_standard_constraints,
+    integrate,
+    STACK_Q0,
+)
 
 
 def build(strategy: str, solver: str, n_tasks: int, priority: float | None = None):
     robot = orca.RobotModel()
     robot.load_model_from_file(orca.default_urdf_path())
     robot.set_gravity(np.array([0.0, 0.0, -9.81]))
-    robot.set_robot_state(Q0, np.zeros(7))
+    robot.set_robot_state(STACK_Q0, np.zeros(7))
     c = orca.Controller('bench', robot, strategy, solver)
-    specs = [
-        ('ee', 'link_7', [0.05, -0.08, 0.04], 1.0),
-        ('elbow', 'link_4', [-0.2, 0.3, -0.1], 10.0),
-    ]
-    for level, (name, frame, offset, weight) in enumerate(specs[:n_tasks]):
-        task = c.add_task(orca.CartesianTask, name, level=level)
-        task.set_control_frame(frame)
-        task.servo_controller().pid().set_proportional_gain(100.0)
-        task.servo_controller().pid().set_derivative_gain(20.0)
-        target = robot.get_frame_pose(frame)
-        target[:3, 3] += offset
-        task.servo_controller().set_desired(target)
-        task.set_selection_vector([1, 1, 1, 0, 0, 0])
-        task.set_weight(weight)
-    if n_tasks >= 3:
-        post = c.add_task(orca.JointAccelerationTask, 'posture', level=2)
-        post.pid().set_proportional_gain(25.0)
-        post.pid().set_derivative_gain(10.0)
-        post.set_desired(np.zeros(7))
+    add_conflicting_stack(c, n_tasks)
     add_standard_constraints(c)
     if priority is not None:
         names = [t.name for t in c.get_tasks()]
@@ -74,7 +59,7 @@ def build(strategy: str, solver: str, n_tasks: int, priority: float | None = Non
 
 def run(strategy: str, solver: str, n_tasks: int, cycles: int, priority: float | None = None):
     robot, c = build(strategy, solver, n_tasks, priority)
-    q, v, dt = Q0.copy(), np.zeros(7), 0.001
+    q, v, dt = STACK_Q0.copy(), np.zeros(7), 0.001
     times = []
     gc.disable()
     try:

@@ -24,34 +24,18 @@ noise, ~1e-16, normalised into a random half-space: such rows are now empty.)
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.examples.common import add_standard_constraints, integrate
+from orca_ros.examples.common import (
+    add_conflicting_stack,
+    add_standard_constraints,
+    integrate,
+    STACK_Q0,
+)
 import pytest
-
-Q0 = np.array([0.3, 0.7, -0.2, -1.1, 0.4, 0.6, 0.1])
 
 
 def _stack(robot, damping, ramp=0.0):
     c = orca.Controller('c', robot, orca.ResolutionStrategy.MULTI_LEVEL_WEIGHTED)
-    specs = [
-        ('ee', 'link_7', [0.05, -0.08, 0.04], 1.0),
-        ('elbow', 'link_4', [-0.2, 0.3, -0.1], 10.0),
-    ]
-    tasks = {}
-    for level, (name, frame, offset, weight) in enumerate(specs):
-        t = c.add_task(orca.CartesianTask, name, level=level)
-        t.set_control_frame(frame)
-        t.servo_controller().pid().set_proportional_gain(100.0)
-        t.servo_controller().pid().set_derivative_gain(20.0)
-        target = robot.get_frame_pose(frame)
-        target[:3, 3] += offset
-        t.servo_controller().set_desired(target)
-        t.set_selection_vector([1, 1, 1, 0, 0, 0])
-        t.set_weight(weight)
-        tasks[name] = t
-    post = c.add_task(orca.JointAccelerationTask, 'posture', level=2)
-    post.pid().set_proportional_gain(25.0)
-    post.pid().set_derivative_gain(10.0)
-    post.set_desired(np.zeros(7))
+    tasks = add_conflicting_stack(c)
     add_standard_constraints(c)
     for o in c.get_tasks():
         o.set_ramp_duration(ramp)
@@ -63,9 +47,9 @@ def _stack(robot, damping, ramp=0.0):
 def _run(damping, seconds=2.0, ramp=0.0):
     robot = orca.RobotModel()
     robot.load_model_from_file(orca.default_urdf_path())
-    robot.set_robot_state(Q0, np.zeros(7))
+    robot.set_robot_state(STACK_Q0, np.zeros(7))
     c, tasks = _stack(robot, damping, ramp)
-    q, v, dt = Q0.copy(), np.zeros(7), 0.001
+    q, v, dt = STACK_Q0.copy(), np.zeros(7), 0.001
     taus, lock = [], 0.0
     for k in range(int(round(seconds / dt))):
         robot.set_robot_state(q, v)

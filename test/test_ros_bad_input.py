@@ -19,7 +19,6 @@ import numpy as np
 import orca_ros as orca
 from orca_ros.ros.launch_free import free_domain_id, Procs
 from orca_ros.ros.probe import Probe
-from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray
 
 NAMES = [f'joint_{i}' for i in range(7)]
@@ -27,11 +26,7 @@ Q0 = np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0])
 
 
 def _state(names=NAMES, q=Q0, v=np.zeros(7)):
-    m = JointState()
-    m.name = list(names)
-    m.position = [float(x) for x in q]
-    m.velocity = [float(x) for x in v]
-    return m
+    return Probe.state_message(names, q, v)
 
 
 def test_controller_survives_bad_states_and_targets(tmp_path):

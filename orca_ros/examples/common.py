@@ -25,8 +25,10 @@ import numpy as np
 
 from .. import (
     CartesianAccelerationPID,
+    CartesianTask,
     Controller,
     default_urdf_path,
+    JointAccelerationTask,
     JointPositionLimitConstraint,
     JointTorqueLimitConstraint,
     JointVelocityLimitConstraint,
@@ -111,6 +113,44 @@ def add_standard_constraints(
     vmax = np.minimum(np.full(n, velocity_max), controller.robot.get_joint_velocity_limits())
     vel.set_limits(-vmax, vmax)
     return trq, pos, vel
+
+
+#: the bent posture the conflicting stack starts from (lwr.urdf)
+STACK_Q0 = np.array([0.3, 0.7, -0.2, -1.1, 0.4, 0.6, 0.1])
+
+
+def add_conflicting_stack(controller: Controller, n_tasks: int = 3) -> dict:
+    """
+    Add the arm's 3-level stack whose elbow task pulls against the end effector.
+
+    Levels: end-effector position (level 0, weight 1), elbow position pulling elsewhere (level 1,
+    weight 10), joint posture towards zero (level 2); the first ``n_tasks`` of them, targets offset
+    from the current poses. Returns the tasks by name.
+    """
+    robot = controller.robot
+    specs = [
+        ('ee', 'link_7', [0.05, -0.08, 0.04], 1.0),
+        ('elbow', 'link_4', [-0.2, 0.3, -0.1], 10.0),
+    ]
+    tasks = {}
+    for level, (name, frame, offset, weight) in enumerate(specs[:n_tasks]):
+        t = controller.add_task(CartesianTask, name, level=level)
+        t.set_control_frame(frame)
+        t.servo_controller().pid().set_proportional_gain(100.0)
+        t.servo_controller().pid().set_derivative_gain(20.0)
+        target = robot.get_frame_pose(frame)
+        target[:3, 3] += offset
+        t.servo_controller().set_desired(target)
+        t.set_selection_vector([1, 1, 1, 0, 0, 0])
+        t.set_weight(weight)
+        tasks[name] = t
+    if n_tasks >= 3:
+        post = controller.add_task(JointAccelerationTask, 'posture', level=2)
+        post.pid().set_proportional_gain(25.0)
+        post.pid().set_derivative_gain(10.0)
+        post.set_desired(np.zeros(robot.get_nr_of_degrees_of_freedom()))
+        tasks['posture'] = post
+    return tasks
 
 
 def integrate(robot, q: np.ndarray, v: np.ndarray, tau: np.ndarray, dt: float):
