@@ -88,8 +88,7 @@ class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
     def __init__(self, name: str, horizon: float = 0.05, max_acceleration: float = 5.0):
         super().__init__(name)
         self._limits = None
-        self._bound = None  # ViableBound of both sides, made at the first update
-        self._bound_acc = None
+        self._bound = None  # ViableBound of both sides, made at the first update after a change
         self.set_horizon(horizon)
         self.set_max_acceleration(max_acceleration)
 
@@ -112,6 +111,7 @@ class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
                 f"constraint '{self.name}': max acceleration must be finite and > 0, got {value}"
             )
         self.max_acceleration = a
+        self._bound = None
 
     def _default_limits(self):
         return self.robot.get_joint_position_limits()
@@ -120,11 +120,10 @@ class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
         q, v = self.robot._q, self.robot._v
         n = q.size
         vb = self._bound
-        if vb is None or vb.size != 2 * n or self._bound_acc is not self.max_acceleration:
+        if vb is None or vb.size != 2 * n:
             # both sides of every joint in one pass: [upper limits; lower limits, mirrored]
             vb = self._bound = ViableBound(2 * n)
             vb.set_acceleration(np.concatenate([np.broadcast_to(self.max_acceleration, n)] * 2))
-            self._bound_acc = self.max_acceleration
             self._room, self._vel, self._out = np.zeros(2 * n), np.zeros(2 * n), np.zeros(2 * n)
         lo, hi = self._limits
         room, vel, out = self._room, self._vel, self._out

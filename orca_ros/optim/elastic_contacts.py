@@ -30,14 +30,13 @@ from __future__ import annotations
 import numpy as np
 
 from .solvers import make_backend, ReturnCode
+from ..constraint.contact import ContactExistenceCondition
 
 DEFAULT_WEIGHT = 1e4
 
 
 class ElasticContacts:
     def __init__(self, plan, solver, weight: float = DEFAULT_WEIGHT):
-        from ..constraint.contact import ContactExistenceCondition
-
         self.plan = plan
         self.weight = float(weight)
         nx = plan.layout.nx

@@ -76,7 +76,7 @@ class LowerLevelProblem(WeightedProblem):
             self.A = self._M[:ne]
             self._lo, self._hi = np.zeros(nx + ne + ni), np.zeros(nx + ne + ni)
         else:
-            self._null_space = NullSpaceStep(solver, nx, self.n_eq, self.n_in, scale)
+            self._null_space = NullSpaceStep(solver, nx, ne, ni, scale)
             self.locked_backend = self._null_space.backend
         # banded form: variables z (nx), equalities A_eq z = 0, rows [C; locks], bounds on z
         self._Ab = np.zeros((self.n_eq_constraints, nx))
@@ -88,7 +88,7 @@ class LowerLevelProblem(WeightedProblem):
         self._uboxb = np.zeros(nx)
         self.banded_backend = None
         # temporal damping per variable, in the solver's units (wrenches in the robot's weight)
-        self._damp_w = 1.0 / np.square(plan.layout.variable_scale)
+        self._damp_w = 1.0 / np.square(scale)
         # temporal damping mu ||x - x_prev||^2 (see set_temporal_damping); x_prev: this level's
         # solution of the previous cycle
         self.temporal_damping = 0.0
@@ -124,7 +124,7 @@ class LowerLevelProblem(WeightedProblem):
         """
         Keep the locked rows at their value at x_above.
 
-        Exactly (band None or all zero) or to +-band.
+        Exactly (band None or all zero: the strict form) or to +-band (the banded form).
 
         A locked task that is ramping in or out (activation factor rho in (0, 1)) is released
         progressively: its rows get the band  (1 - rho) / rho * (|s E x_above| + |s f| + 1),  0
