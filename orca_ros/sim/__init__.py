@@ -17,5 +17,13 @@ from .contacts import ContactPoint
 from .joint_map import JointMap
 from .sim_model import SimModel
 from .sim_server import SimServer
+from .urdf_text import replace_collisions_with_boxes, resolve_package_uris
 
-__all__ = ['ContactPoint', 'JointMap', 'SimModel', 'SimServer']
+__all__ = [
+    'ContactPoint',
+    'JointMap',
+    'replace_collisions_with_boxes',
+    'resolve_package_uris',
+    'SimModel',
+    'SimServer',
+]
