@@ -46,6 +46,9 @@ def test_main_job_reaches_every_target_and_records_the_run(tmp_path):
     assert '-0.000' not in out and 'e-4' not in out.split('solve time')[0]
     assert (tmp_path / 'main_job_run.png').stat().st_size > 50_000
     assert (tmp_path / 'main_job_path.png').stat().st_size > 10_000
+    # the nodes' output is kept next to the run's bag (it was left in /tmp)
+    for node in ('bridge', 'controller', 'recorder'):
+        assert (tmp_path / 'run.logs' / f'{node}.log').stat().st_size > 0
 
     expected = {
         '/joint_states': 'sensor_msgs/msg/JointState',

@@ -29,7 +29,6 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import tempfile
 import time
 
 import numpy as np
@@ -103,10 +102,12 @@ def main(argv=None) -> int:
         domain = int(os.environ.get('ROS_DOMAIN_ID', '0'))
     else:
         domain = free_domain_id()
-    procs = Procs(domain, tempfile.mkdtemp(prefix='orca_main_job_'), local_only=not args.attach)
-    mode = 'free_running' if args.realtime else 'lockstep'
     os.makedirs(args.output_dir, exist_ok=True)
     bag = args.bag or os.path.join(args.output_dir, time.strftime('run_%Y%m%d-%H%M%S'))
+    logs = f'{bag.rstrip(os.sep)}.logs'  # the nodes' output, next to the run's bag
+    os.makedirs(logs, exist_ok=True)
+    procs = Procs(domain, logs, local_only=not args.attach)
+    mode = 'free_running' if args.realtime else 'lockstep'
     procs.start(
         'orca_ros.ros.bag_recorder',
         '-p', f'output:={bag}',
@@ -161,6 +162,7 @@ def main(argv=None) -> int:
     except AssertionError as exc:
         print(f'main job failed: {exc}')
         print(procs.log('controller')[-2000:])
+        print(f'node logs: {logs}')
         return 1
     finally:
         probe.close()
@@ -206,6 +208,7 @@ def main(argv=None) -> int:
     for line in report(run)[1:]:
         print(line)
     print(f'recorded: {bag} ({", ".join(f"{k} {n}" for k, n in sorted(run.counts.items()))})')
+    print(f'node logs: {logs}')
     p1 = plot_run(run, os.path.join(args.output_dir, 'main_job_run.png'))
     import matplotlib.pyplot as plt  # noqa: PLC0415 (plot_run chose the backend)
 
