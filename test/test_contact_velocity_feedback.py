@@ -42,6 +42,7 @@ def _push(gain=None, force: float = 100.0, duration: float = 0.1, seconds: float
     home = np.array([0.0, 0.0, STAND_HEIGHT])
     failures, slide, feet0 = 0, 0.0, None
     run = _push.longest_failed_run = _push.relaxed = 0
+    _push.max_tilt = 0.0  # largest angle between the trunk's z axis and the vertical [rad]
     with SimServer(time_step=0.001) as server:
         sim, by_name = insert_standing(server)
         dt = server.time_step
@@ -58,6 +59,8 @@ def _push(gain=None, force: float = 100.0, duration: float = 0.1, seconds: float
             if 0.5 <= t < 0.5 + duration:
                 sim.apply_external_force('trunk', [0.0, force, 0.0])
             server.step()
+            z_axis = sim.get_world_to_base_transform()[:3, 2]
+            _push.max_tilt = max(_push.max_tilt, float(np.arccos(np.clip(z_axis[2], -1.0, 1.0))))
             feet = np.array([sim.get_link_position(f'{leg}_foot')[:2] for leg in LEGS])
             if k == 400:  # settled, before the push
                 feet0 = feet
@@ -99,3 +102,19 @@ def test_a_harder_push_lets_the_contacts_slip_instead_of_failing():
     _push(gain=0.0, force=150.0, seconds=3.0)
     assert _push.relaxed > 100
     assert _push.longest_failed_run <= 10
+
+
+def test_a_130_newton_push_is_recovered_with_default_settings():
+    """
+    The margin the default controller has: 130 N for 0.1 s, no failure, the trunk upright again.
+
+    At 150 N it falls (issue 11, item 4, open). Measured there: during the push the two feet
+    on the far side carry ~190 N and ~80 N of lateral force (the most that tips no foot off);
+    after it the trunk's vertical servo, the trunk having risen 5 mm, unloads them to ~40 N and
+    the lateral force goes with it. The capture point then leaves the feet and, without
+    stepping, the robot tips.
+    """
+    slide, failures, base = _push(force=130.0, seconds=3.0)
+    assert failures == 0
+    assert _push.max_tilt < np.radians(10.0), f'tilted {np.degrees(_push.max_tilt):.1f} deg'
+    np.testing.assert_allclose(base, [0.0, 0.0, STAND_HEIGHT], atol=0.03)
