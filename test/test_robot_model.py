@@ -103,6 +103,7 @@ def test_jacobian_and_bias_acceleration_by_finite_differences(
         robot.set_robot_state(q - eps * v, v)
         vm = robot.get_frame_velocity(tip)
         np.testing.assert_allclose(bias, (vp - vm) / (2 * eps), atol=2e-6)
+        assert np.abs(bias).max() > 0 and np.abs(J).max() > 0.1, (bias, J.shape)
         # a non-zero acceleration: d/dt (J v) = J a + J_dot v along q(t) with v(t) = v + t a
         a = rng.uniform(-1, 1, len(q))
         robot.set_robot_state(q, v)
@@ -233,3 +234,28 @@ def test_gravity_query_does_not_corrupt_frame_terms(lwr_urdf, rng):
     fresh.load_model_from_file(lwr_urdf)
     fresh.set_robot_state(q, v)
     np.testing.assert_allclose(b1, fresh.get_frame_bias_acceleration('link_5'), atol=1e-12)
+
+
+def test_com_terms_by_finite_differences_on_a_floating_base(talos_standing, rng):
+    """Check the CoM terms on Talos: J v = d/dt c, bias = d/dt (J v) (finite differences)."""
+    robot, q0 = talos_standing()
+    model = robot.model
+    eps = 1e-6
+
+    def com_at(q, v):
+        robot.set_configuration(q, v)
+        robot.get_frame_pose('torso_2_link')  # a frame query between states changes nothing
+        return robot.get_center_of_mass_terms()
+
+    for _ in range(3):
+        q = pin.integrate(model, q0, rng.uniform(-0.2, 0.2, model.nv))
+        v = rng.uniform(-1.0, 1.0, model.nv)
+        p, J, vel, bias = (np.array(x) for x in com_at(q, v))
+        np.testing.assert_allclose(vel, J @ v, atol=1e-12)
+        pp = com_at(pin.integrate(model, q, eps * v), v)[0]
+        pm = com_at(pin.integrate(model, q, -eps * v), v)[0]
+        np.testing.assert_allclose(J @ v, (pp - pm) / (2 * eps), atol=1e-7)
+        vp = com_at(pin.integrate(model, q, eps * v), v)[2]
+        vm = com_at(pin.integrate(model, q, -eps * v), v)[2]
+        np.testing.assert_allclose(bias, (vp - vm) / (2 * eps), atol=2e-6)
+        assert np.abs(bias).max() > 0 and np.abs(J).max() > 0.1, (bias, J.shape)

@@ -16,8 +16,10 @@ Centre of mass of the whole robot, in the world frame.
 
 position, Jacobian, velocity and bias J_dot nu.
 
-Computed on its own Pinocchio Data (a zero-acceleration pass would otherwise overwrite the frame
-quantities of the robot's main Data for the same state) and cached per state.
+The position, velocity and Jacobian are the ones Pinocchio's ``computeAllTerms`` already left
+in the robot's main Data for this state. The bias comes from a zero-acceleration pass on this
+object's own Data (on the main Data it would overwrite the frame quantities of the same state).
+Cached per state.
 """
 
 from __future__ import annotations
@@ -40,10 +42,11 @@ class ComKinematics:
         robot = self.robot
         if self._stamp == robot._stamp and self._terms is not None:
             return self._terms
-        robot._update_terms()
-        m, d, q, v = robot.model, self.data, robot._q_pin, robot._v_pin
-        pin.centerOfMass(m, d, q, v, self._zero)
-        J = pin.jacobianCenterOfMass(m, d, q, False)
-        self._terms = (d.com[0].copy(), J.copy(), d.vcom[0].copy(), d.acom[0].copy())
+        robot._update_terms()  # computeAllTerms: com, vcom and Jcom in the main Data
+        main = robot.data
+        pin.centerOfMass(robot.model, self.data, robot._q_pin, robot._v_pin, self._zero)
+        self._terms = (
+            main.com[0].copy(), main.Jcom.copy(), main.vcom[0].copy(), self.data.acom[0].copy()
+        )
         self._stamp = robot._stamp
         return self._terms
