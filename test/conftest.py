@@ -107,6 +107,49 @@ def talos_standing(example_robot_urdf):
     return make
 
 
+@pytest.fixture(scope='session')
+def com_sway_in_pybullet():
+    """
+    Close a controller on a floating-base robot in PyBullet while its CoM task sways sideways.
+
+    ``run(robot, controller, com_task, server, sim, by_name, seconds, amplitude, omega,
+    after_step=None)``: the CoM target moves by amplitude sin(omega t) along y from where the CoM
+    starts; ``after_step(k, torques)`` is called after each simulation step. Returns the CoM
+    errors (one per cycle) and the number of failed cycles.
+    """
+
+    def run(robot, c, com, server, sim, by_name, seconds, amplitude, omega, after_step=None):
+        gravity = np.array([0.0, 0.0, -9.81])
+        dt = server.time_step
+        errors, failures, c0 = [], 0, None
+        for k in range(int(round(seconds / dt))):
+            t = k * dt
+            robot.set_robot_state(
+                sim.get_world_to_base_transform(),
+                sim.get_joint_positions(by_name),
+                sim.get_base_velocity(),
+                sim.get_joint_velocities(by_name),
+                gravity,
+            )
+            if c0 is None:
+                c0 = robot.get_center_of_mass()
+            s, co = np.sin(omega * t), np.cos(omega * t)
+            ref = c0 + [0.0, amplitude * s, 0.0]
+            com.set_desired(
+                ref, [0.0, amplitude * omega * co, 0.0], [0.0, -amplitude * omega**2 * s, 0.0]
+            )
+            errors.append(np.linalg.norm(robot.get_center_of_mass() - ref))
+            failures += not c.update(t, dt)
+            torques = c.get_joint_torque_command()
+            sim.set_joint_torque_command(torques, by_name)
+            server.step()
+            if after_step is not None:
+                after_step(k, torques)
+        return np.array(errors), failures
+
+    return run
+
+
 @pytest.fixture
 def rng():
     return np.random.default_rng(1234)

@@ -74,7 +74,9 @@ def _standing(example_robot_urdf, which):
 
 
 @pytest.mark.parametrize('which', sorted(ROBOTS))
-def test_a_quadruped_sways_its_com_with_default_settings(example_robot_urdf, tmp_path, which):
+def test_a_quadruped_sways_its_com_with_default_settings(
+    example_robot_urdf, com_sway_in_pybullet, tmp_path, which
+):
     robot, q, urdf, feet = _standing(example_robot_urdf, which)
     c = orca.Controller(which, robot)
     for f in feet:
@@ -94,43 +96,29 @@ def test_a_quadruped_sways_its_com_with_default_settings(example_robot_urdf, tmp
         path.write_text(resolve_package_uris(f.read(), urdf))
     names = robot.get_joint_names()
     limits = robot.get_joint_torque_limits()  # the URDF's efforts
-    errors, failures, c0, feet0, slide = [], 0, None, None, 0.0
     with SimServer(time_step=DT) as server:
         sim = server.insert_model_from_urdf_file(
             str(path), position=q[:3], orientation=q[3:7], fixed_base=False
         )
         by_name = sim.joint_map(names)
         sim.set_model_configuration(names, q[7:])
-        for k in range(int(round(4.0 / DT))):
-            t = k * DT
-            robot.set_robot_state(
-                sim.get_world_to_base_transform(),
-                sim.get_joint_positions(by_name),
-                sim.get_base_velocity(),
-                sim.get_joint_velocities(by_name),
-                np.array([0.0, 0.0, -9.81]),
-            )
-            if c0 is None:
-                c0 = robot.get_center_of_mass()
-            s, co = np.sin(OMEGA * t), np.cos(OMEGA * t)
-            ref = c0 + [0.0, AMPLITUDE * s, 0.0]
-            com.set_desired(
-                ref, [0.0, AMPLITUDE * OMEGA * co, 0.0], [0.0, -AMPLITUDE * OMEGA**2 * s, 0.0]
-            )
-            errors.append(np.linalg.norm(robot.get_center_of_mass() - ref))
-            failures += not c.update(t, DT)
-            torques = c.get_joint_torque_command()
-            assert np.all(np.abs(torques) <= limits + 1e-9)
-            sim.set_joint_torque_command(torques, by_name)
-            server.step()
+        feet0, over, slide = [], [], [0.0]
+
+        def after_step(k, torques):
+            over.append(float(np.max(np.abs(torques) - limits)))
             at = np.array([sim.get_link_position(f)[:2] for f in feet])
             if k == 100:  # settled on the ground
-                feet0 = at
-            if feet0 is not None:
-                slide = max(slide, float(np.linalg.norm(at - feet0, axis=1).max()))
+                feet0.append(at)
+            if feet0:
+                slide[0] = max(slide[0], float(np.linalg.norm(at - feet0[0], axis=1).max()))
+
+        errors, failures = com_sway_in_pybullet(
+            robot, c, com, server, sim, by_name, 4.0, AMPLITUDE, OMEGA, after_step
+        )
         height = sim.get_world_to_base_transform()[2, 3]
     rms = float(np.sqrt(np.mean(np.square(errors))))
     assert failures == 0
+    assert max(over) <= 1e-9  # torques within the URDF's efforts
     assert rms <= 0.005, f'CoM rms error {1000 * rms:.2f} mm'
-    assert slide <= 0.005, f'a foot slid {1000 * slide:.1f} mm'
+    assert slide[0] <= 0.005, f'a foot slid {1000 * slide[0]:.1f} mm'
     assert abs(height - q[2]) < 0.01  # standing at its height

@@ -66,11 +66,12 @@ def test_a_missing_package_or_link_is_named():
         replace_collisions_with_boxes(text, {'b': ((1, 1, 1), (0, 0, 0))})
 
 
-def test_talos_sways_its_com_in_pybullet(talos_standing, example_robot_urdf, tmp_path):
+def test_talos_sways_its_com_in_pybullet(
+    talos_standing, example_robot_urdf, com_sway_in_pybullet, tmp_path
+):
     robot, c, com, q = _talos(talos_standing, 'daqp')
     urdf = _talos_urdf_for_pybullet(example_robot_urdf, tmp_path / 'talos.urdf')
     names = robot.get_joint_names()
-    errors, failures = [], 0
     with SimServer(time_step=DT) as server:
         sim = server.insert_model_from_urdf_file(
             urdf, position=q[:3], orientation=q[3:7], fixed_base=False
@@ -78,27 +79,9 @@ def test_talos_sways_its_com_in_pybullet(talos_standing, example_robot_urdf, tmp
         by_name = sim.joint_map(names)
         sim.set_model_configuration(names, q[7:])
         soles0 = [sim.get_link_position(s) for s in SOLE_LINKS.values()]
-        c0 = None
-        for k in range(int(round(10.0 / DT))):
-            t = k * DT
-            robot.set_robot_state(
-                sim.get_world_to_base_transform(),
-                sim.get_joint_positions(by_name),
-                sim.get_base_velocity(),
-                sim.get_joint_velocities(by_name),
-                np.array([0.0, 0.0, -9.81]),
-            )
-            if c0 is None:
-                c0 = robot.get_center_of_mass()
-            s, co = np.sin(OMEGA * t), np.cos(OMEGA * t)
-            ref = c0 + [0.0, AMPLITUDE * s, 0.0]
-            com.set_desired(
-                ref, [0.0, AMPLITUDE * OMEGA * co, 0.0], [0.0, -AMPLITUDE * OMEGA**2 * s, 0.0]
-            )
-            errors.append(np.linalg.norm(robot.get_center_of_mass() - ref))
-            failures += not c.update(t, DT)
-            sim.set_joint_torque_command(c.get_joint_torque_command(), by_name)
-            server.step()
+        errors, failures = com_sway_in_pybullet(
+            robot, c, com, server, sim, by_name, 10.0, AMPLITUDE, OMEGA
+        )
         slide = max(
             np.linalg.norm(sim.get_link_position(s)[:2] - p0[:2])
             for s, p0 in zip(SOLE_LINKS.values(), soles0)
