@@ -57,6 +57,19 @@ def test_package_uris_are_resolved_and_soles_are_boxes(example_robot_urdf, tmp_p
             np.testing.assert_allclose(size, [0.2, 0.13, THICKNESS])
 
 
+def test_textures_are_resolved_too(tmp_path):
+    pkg = tmp_path / 'share' / 'my_robot'
+    (pkg / 'urdf').mkdir(parents=True)
+    text = (
+        '<robot name="r"><material name="m"><texture filename="package://my_robot/t.png"/>'
+        '</material><link name="a"/></robot>'
+    )
+    out = resolve_package_uris(text, str(pkg / 'urdf' / 'r.urdf'))
+    assert f'filename="{pkg}/t.png"' in out
+    out = resolve_package_uris(text, '/elsewhere/r.urdf', {'my_robot': str(pkg)})
+    assert f'filename="{pkg}/t.png"' in out
+
+
 def test_a_missing_package_or_link_is_named():
     text = '<robot name="r"><link name="a"><visual><geometry>' \
         '<mesh filename="package://nowhere/m.stl"/></geometry></visual></link></robot>'

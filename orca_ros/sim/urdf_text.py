@@ -51,13 +51,13 @@ def package_directory(package: str, urdf_path: str, package_dirs=None) -> str | 
 
 def resolve_package_uris(text: str, urdf_path: str, package_dirs=None) -> str:
     """
-    Replace every ``package://name/rest`` file name by an absolute path.
+    Replace every ``package://name/rest`` file name (meshes, textures) by an absolute path.
 
     Raises ValueError naming a package that cannot be found.
     """
     root = ET.fromstring(text)
-    for mesh in root.iter('mesh'):
-        name = mesh.get('filename', '')
+    for element in root.iter():  # meshes, and the textures of materials
+        name = element.get('filename', '')
         if not name.startswith(_SCHEME):
             continue
         package, _, rest = name[len(_SCHEME):].partition('/')
@@ -66,7 +66,7 @@ def resolve_package_uris(text: str, urdf_path: str, package_dirs=None) -> str:
             raise ValueError(
                 f"URDF '{urdf_path}': package '{package}' not found (pass package_dirs)"
             )
-        mesh.set('filename', os.path.join(base, rest))
+        element.set('filename', os.path.join(base, rest))
     return ET.tostring(root, encoding='unicode')
 
 
