@@ -103,6 +103,9 @@ class ContactBase(GenericConstraint):
             raise ValueError(f"contact '{self.name}': velocity gain must be >= 0, got {gain}")
         self.velocity_gain = gain
 
+    def feedback_velocity(self, v: np.ndarray) -> None:
+        """Adjust the velocity the existence condition feeds back, in place (all of it here)."""
+
     def set_contact_frame(self, frame: str) -> None:
         if self.robot is not None:
             self._fid = self.robot.get_frame_id(frame)
@@ -157,6 +160,18 @@ class NormalForceRamp:
 
     def contact_normal_world(self) -> np.ndarray:
         return self.normal
+
+    def feedback_velocity(self, v: np.ndarray) -> None:
+        """
+        Drop, in place, the part of the contact's velocity v that goes into the surface.
+
+        The surface stops that part itself. Fed back, it made a foot landing at 0.14 m/s (a 1 mm
+        drop) ask for ~700 N for 3 ms at a gain of 200 /s. Sliding, and lifting off, stay in.
+        """
+        n = self.contact_normal_world()
+        vn = float(n @ v[:3])
+        if vn < 0.0:
+            v[:3] -= vn * n
 
     def deactivate(self) -> bool:
         self._release_force = max(float(self.contact_normal_world() @ self.last_wrench[:3]), 0.0)
@@ -331,7 +346,9 @@ class ContactExistenceCondition(GenericConstraint):
         # at most half the slip removed per control period: gain * dt >= 1 would overshoot
         gain = min(self.contact.velocity_gain, 0.5 / dt) if dt > 0.0 else 0.0
         if gain > 0.0:
-            self.lb -= gain * (J @ self.contact.robot.get_generalized_velocity())
+            v = J @ self.contact.robot.get_generalized_velocity()
+            self.contact.feedback_velocity(v)
+            self.lb -= gain * v
         self.ub[:] = self.lb
 
 

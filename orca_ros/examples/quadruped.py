@@ -29,10 +29,10 @@ osqp]``
 from __future__ import annotations
 
 import argparse
-from dataclasses import dataclass, field
 
 import numpy as np
 
+from .quadruped_log import dynamics_residual, record_step, RunLog  # noqa: F401 (re-exported)
 from .. import (
     CartesianTask,
     Contact,
@@ -179,62 +179,6 @@ class QuadrupedController:
         return np.array([self.contacts[leg].get_wrench(x)[:3] for leg in LEGS])
 
 
-@dataclass
-class RunLog:
-    t: list = field(default_factory=list)
-    base: list = field(default_factory=list)
-    base_target: list = field(default_factory=list)
-    feet: list = field(default_factory=list)  # PyBullet foot (sphere centre) positions (4, 3)
-    slip: list = field(
-        default_factory=list
-    )  # PyBullet tangential velocity of the foot's lowest point (4, 2)
-    forces: list = field(default_factory=list)  # solution contact forces (4, 3)
-    bounds: list = field(default_factory=list)  # normal-force upper bounds (4,)
-    cone: list = field(default_factory=list)  # max over faces of d_k.f - mu_eff n.f (4,)
-    tau: list = field(default_factory=list)
-    loaded: list = field(default_factory=list)  # contact fully on (activated) (4,)
-    dynamics: list = field(
-        default_factory=list
-    )  # max |M nu_dot + n - S^T tau - J_c^T w| of the solution
-    failures: int = 0
-
-    def arrays(self):
-        return {k: np.array(v) for k, v in self.__dict__.items() if isinstance(v, list)}
-
-
-def _record(log, qc, sim_model, t, target):
-    robot = qc.robot
-    log.t.append(t)
-    log.base.append(robot.get_world_to_base_transform()[:3, 3].copy())
-    log.base_target.append(np.array(target))
-    log.feet.append(np.array([sim_model.get_link_position(f'{leg}_foot') for leg in LEGS]))
-    slip = []
-    for (
-        leg
-    ) in LEGS:  # velocity of the sphere's material point touching the ground: v_c + w x (-r z)
-        lin, ang = sim_model.get_link_velocity(f'{leg}_foot')
-        slip.append((lin + np.cross(ang, [0.0, 0.0, -FOOT_RADIUS]))[:2])
-    log.slip.append(slip)
-    F = qc.contact_forces()
-    log.forces.append(F)
-    log.bounds.append([qc.contacts[leg].normal_force_bound() for leg in LEGS])
-    log.cone.append([np.max(qc.contacts[leg]._faces @ F[i]) for i, leg in enumerate(LEGS)])
-    log.tau.append(qc.controller.get_joint_torque_command())
-    log.loaded.append([qc.contacts[leg].is_activated() for leg in LEGS])
-    log.dynamics.append(dynamics_residual(qc.controller))
-
-
-def dynamics_residual(controller) -> float:
-    """Largest violation of the equation of motion by the controller's full solution."""
-    robot, lay = controller.robot, controller.layout
-    sol = controller.get_solution()
-    nv, nb = lay.nv, lay.nbase
-    acc, tau, w = sol[:nv], sol[nv + nb: nv + nv], sol[nv + nv:]
-    lhs = robot.get_mass_matrix() @ acc + robot.get_generalized_gravity_and_coriolis_torques()
-    rhs = np.concatenate((np.zeros(nb), tau)) + lay.wrench_jacobian.T @ w
-    return float(np.max(np.abs(lhs - rhs)))
-
-
 def sinusoid(s: float, amplitude: float, period: float, duration: float):
     """
     Return (y, y', y'') of a sway that starts and ends at rest.
@@ -313,7 +257,7 @@ def run_in_pybullet(
                 log.failures += 1
             sim.set_joint_torque_command(c.get_joint_torque_command(), by_name)
             server.step()
-            _record(log, qc, sim, t, target)
+            record_step(log, qc, sim, t, target, FOOT_RADIUS)
             state['t'] = t + dt
 
         def hold(target, duration):
