@@ -134,3 +134,21 @@ def test_without_any_one_setting_the_quadruped_tips_over(setting):
     assert _push.longest_failed_run <= 10
     if 'contact_velocity_gain' in setting:
         assert _push.relaxed > 100  # cycles the elastic contacts carried
+
+
+@pytest.mark.parametrize(
+    'base_velocity, fed_back',
+    [([0.0, 0.0, -0.1], False), ([0.0, 0.0, 0.1], True), ([0.1, 0.0, 0.0], True)],
+)
+def test_a_foot_moving_into_the_ground_is_not_fed_back(base_velocity, fed_back):
+    """Sliding and lifting off are fed back; moving into the surface is the surface's to stop."""
+    robot = make_robot()
+    qc = QuadrupedController(robot, 'daqp', contact_velocity_gain=100.0)
+    T = robot.get_world_to_base_transform()
+    v = np.concatenate((base_velocity, np.zeros(3)))  # the whole robot translating
+    robot.set_robot_state(T, robot.get_joint_positions(), v, np.zeros(12), [0.0, 0.0, -9.81])
+    assert qc.update(0.0, 0.001)
+    existence = qc.contacts['FL'].existence
+    _, _, _, bias = robot.world_frame_terms(robot.get_frame_id('FL_foot'))
+    expected = -bias[:3] - (100.0 * np.asarray(base_velocity) if fed_back else 0.0)
+    np.testing.assert_allclose(existence.lb, expected, atol=1e-9)
