@@ -31,11 +31,12 @@ import pytest
 
 @pytest.mark.parametrize('solver', ['daqp', 'proxqp', 'osqp'])
 def test_arm_reaches_target_within_limits(lwr_urdf, solver):
-    # the closed-loop result, with a 20 ms wall-clock budget per cycle: the default (one 1 ms
-    # period) is turned into iterations from the time left, which two busy neighbours on a 2-core
-    # machine can cut below what a cycle with newly active limits needs (OSQP, ADMM, needs more
-    # than a period's iterations even when idle)
-    res = simulating_results.run(lwr_urdf, solver, duration=10.0, time_budget=0.02)
+    # the closed-loop result, with a 1 s wall-clock budget per cycle: the budget is turned into
+    # iterations from the time left, which busy neighbours on a 2-core machine cut below what a
+    # cycle with newly active limits needs (OSQP, ADMM, needs more than a 1 ms period's
+    # iterations even when idle; 20 ms was cut too, once, beside two CPU burners). The budget is
+    # not what this test is about (bench_infeasible.py measures it)
+    res = simulating_results.run(lwr_urdf, solver, duration=10.0, time_budget=1.0)
     assert res['ok'], 'every cycle must have a solution'
     # stated target: the reference's (1.0, 0.75, 0.5) is beyond reach; the example aims at the
     # point in the same direction from the shoulder at 80 % of the arm's length
