@@ -44,20 +44,11 @@ def run(solver: str, seconds: float, capture=None):
     home = np.array([0.0, 0.0, quad.STAND_HEIGHT])
     times, failed = [], []
     with SimServer(time_step=0.001) as server:
-        sim = server.insert_model_from_urdf_file(
-            quad.quadruped_urdf(), position=home + [0, 0, 0.001], fixed_base=False
-        )
-        sim.set_model_configuration(robot.get_joint_names(), quad.STAND_Q)
+        sim, by_name = quad.insert_standing(server)
         gc.disable()
         try:
             for k in range(int(seconds / 0.001)):
-                robot.set_robot_state(
-                    sim.get_world_to_base_transform(),
-                    sim.get_joint_positions(),
-                    sim.get_base_velocity(),
-                    sim.get_joint_velocities(),
-                    quad.GRAVITY,
-                )
+                quad.state_from_sim(robot, sim, by_name)
                 y = 0.03 * np.sin(2 * np.pi * 0.5 * k * 0.001)
                 qc.set_base_target(home + [0, y, 0])
                 t0 = time.perf_counter()
@@ -73,7 +64,7 @@ def run(solver: str, seconds: float, capture=None):
                             a.copy() for a in (p.H, p.g, p.A, p.b, p.C, p.l, p.u, p.lbox, p.ubox)
                         )
                     )
-                sim.set_joint_torque_command(c.get_joint_torque_command())
+                sim.set_joint_torque_command(c.get_joint_torque_command(), by_name)
                 server.step()
         finally:
             gc.enable()
