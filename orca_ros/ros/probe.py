@@ -227,17 +227,7 @@ class Probe:
         """
         from orca_ros.ros.common import matrix_to_pose
 
-        if task not in self.pub_target:
-            self.pub_target[task] = self.node.create_publisher(
-                self.PoseStamped, f'{self.ns}/tasks/{task}/target_pose', 10
-            )
-        pub = self.pub_target[task]
-        # a message published before discovery matched the controller's subscription is lost
-        self.wait_for(
-            lambda: pub.get_subscription_count() > 0,
-            10.0,
-            f"a subscriber on {task}'s target topic",
-        )
+        pub = self._target_publisher(task, task, self.PoseStamped, 'target_pose')
         msg = self.PoseStamped()
         msg.header.frame_id = frame_id
         matrix_to_pose(T, msg.pose)
@@ -248,6 +238,19 @@ class Probe:
                 lambda: pub.publish(msg), until, f"the effect of {task}'s target", timeout
             )
 
+    def _target_publisher(self, key: str, task: str, msg_type, topic: str):
+        """Return publisher ``key`` on <ns>/tasks/<task>/<topic>, made once, once matched."""
+        if key not in self.pub_target:
+            self.pub_target[key] = self.node.create_publisher(
+                msg_type, f'{self.ns}/tasks/{task}/{topic}', 10
+            )
+        pub = self.pub_target[key]
+        # a message published before discovery matched the controller's subscription is lost
+        self.wait_for(
+            lambda: pub.get_subscription_count() > 0, 10.0, f"a subscriber on {task}'s {topic}"
+        )
+        return pub
+
     def send_target_point(self, task: str, position, velocity=(0, 0, 0), acceleration=(0, 0, 0)):
         """
         Cartesian target with feed-forward (orientation identity).
@@ -256,17 +259,9 @@ class Probe:
         """
         from geometry_msgs.msg import Transform, Twist
 
-        key = f'{task}/point'
-        if key not in self.pub_target:
-            self.pub_target[key] = self.node.create_publisher(
-                self.MultiDOFJointTrajectoryPoint, f'{self.ns}/tasks/{task}/target_point', 10
-            )
-            pub = self.pub_target[key]
-            self.wait_for(
-                lambda: pub.get_subscription_count() > 0,
-                10.0,
-                f"a subscriber on {task}'s target_point",
-            )
+        pub = self._target_publisher(
+            f'{task}/point', task, self.MultiDOFJointTrajectoryPoint, 'target_point'
+        )
         msg = self.MultiDOFJointTrajectoryPoint()
         tr = Transform()
         tr.translation.x, tr.translation.y, tr.translation.z = (float(v) for v in position)
@@ -276,7 +271,7 @@ class Probe:
             tw = Twist()
             tw.linear.x, tw.linear.y, tw.linear.z = (float(v) for v in vec)
             out.append(tw)
-        self.pub_target[key].publish(msg)
+        pub.publish(msg)
 
     def call(self, srv_type, name: str, request, timeout: float = 10.0):
         cli = self.node.create_client(srv_type, name)
