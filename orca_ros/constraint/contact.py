@@ -147,7 +147,8 @@ class NormalForceRamp:
 
     Switched on, from 0 up to ``maximum_normal_force``; switched off, from the normal force it
     carried then down to 0 (the load moves to the other contacts progressively before the contact
-    is released).
+    is released). What else the unilateral contacts (point and surface) share is here too: their
+    normal, and the part of their velocity the existence condition feeds back.
     """
 
     maximum_normal_force = 1000.0
