@@ -3,8 +3,13 @@
 # then activate it. Sourced by run_demo.sh and run_tests.sh.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-VENV="${ORCA_VENV:-$ROOT/.venv}"
 PY="${PYTHON:-python3}"
+# PYTHON=python3.12 (or a path) selects the interpreter; each one gets its own environment
+if [ -n "${PYTHON:-}" ]; then
+  VENV="${ORCA_VENV:-$ROOT/.venv-py$("$PY" -c 'import sys; print("%d.%d" % sys.version_info[:2])')}"
+else
+  VENV="${ORCA_VENV:-$ROOT/.venv}"
+fi
 if [ ! -x "$VENV/bin/python" ]; then
   "$PY" -m venv "$VENV"
 fi

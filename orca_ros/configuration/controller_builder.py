@@ -23,7 +23,7 @@ Keys (defaults in brackets): ``urdf_path`` or ``robot_description``; ``floating_
 ``base_frame`` [URDF root]; ``joints`` [all, URDF order] (the joints commanded, in the order of
 the commands on the wire; the others are welded at their measured positions, see
 :class:`orca_ros.robot.joint_locking.LockedJoints`); ``locked_joint_tolerance`` [1e-4];
-``solver`` [proxqp]; ``resolution_strategy`` [one_level_weighted];
+``solver`` [daqp]; ``resolution_strategy`` [one_level_weighted];
 ``gravity_compensated_by_hardware`` [false]; ``regularisation`` {weight, damping};
 ``lower_level_damping`` [0] (strict levels, see Controller.set_lower_level_damping); ``tasks``:
 {names: [...], <name>: {type, ...}}; ``constraints``: {names: [...], <name>: {type, ...}}.
@@ -140,7 +140,10 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         )
     except ValueError as exc:
         raise ConfigError(str(exc)) from None
-    controller = Controller(cfg.get('name', 'orca_controller'), robot, strategy, solver)
+    # the caller logs controller.solver_fallback where it logs (the node: its ROS logger)
+    controller = Controller(
+        cfg.get('name', 'orca_controller'), robot, strategy, solver, log_solver_fallback=False
+    )
     reg = cfg.get('regularisation') or {}
     if 'weight' in reg:
         controller.global_regularisation.set_weight(reg['weight'])

@@ -63,6 +63,7 @@ def run(urdf: str, solver: str = 'daqp', duration: float = 2.0, dt: float = 0.00
             )
     result = {
         'cycles': cycles,
+        'solver': controller.solver.value,
         'solved': solved,
         'full_solution': controller.get_solution(),
         'torque': controller.get_joint_torque_command(),

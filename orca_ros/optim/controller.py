@@ -34,7 +34,7 @@ from .generalized import GeneralizedPriorities
 from .priority_levels import PriorityLevels, tasks_by_level
 from .problem_layout import ProblemLayout
 from .resolution_strategy import ResolutionStrategy
-from .solvers import QPSolver, ReturnCode
+from .solvers import QPSolver, resolve_solver, ReturnCode
 from .task_registry import TaskRegistryMixin
 from .weighted_problem import WeightedProblem
 from ..constraint.dynamics_equation_constraint import DynamicsEquationConstraint
@@ -57,6 +57,7 @@ class Controller(TaskRegistryMixin):
         robot,
         resolution_strategy=ResolutionStrategy.ONE_LEVEL_WEIGHTED,
         solver=QPSolver.DAQP,
+        log_solver_fallback: bool = True,
     ):
         if robot is None or getattr(robot, 'model', None) is None:
             raise ValueError('Controller needs a RobotModel with a loaded URDF')
@@ -67,7 +68,10 @@ class Controller(TaskRegistryMixin):
         self.name = name
         self.robot = robot
         self.resolution_strategy = resolution_strategy
-        self.solver = solver
+        # DAQP (the default) has no rosdep key: where it is missing, ProxQP runs and this says why
+        self.solver, self.solver_fallback = resolve_solver(solver)
+        if self.solver_fallback and log_solver_fallback:
+            _LOG.warning(self.solver_fallback)
         self.layout = ProblemLayout(robot)
         self._tasks: list[GenericTask] = []
         self._constraints: list[GenericConstraint] = []

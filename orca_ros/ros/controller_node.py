@@ -94,6 +94,8 @@ class OrcaControllerNode(
         cfg['constraints'] = nested_parameters(self, 'constraints')
         self.setup = setup = build_from_config(cfg)
         self.robot, self.controller = setup.robot, setup.controller
+        if self.controller.solver_fallback:
+            self.get_logger().warning(self.controller.solver_fallback)
         self.n = len(setup.joints)
         self.update_rate = float(param(self, 'update_rate', 1000.0))
         self.period = 1.0 / self.update_rate

@@ -15,6 +15,7 @@
 
 import numpy as np
 
+from .availability import installed, resolve_solver
 from .base import QPBackend, QPSolver, ReturnCode
 from .daqp_backend import DAQPBackend
 from .osqp_backend import OSQPBackend
@@ -57,4 +58,6 @@ __all__ = [
     'ProxQPBackend',
     'ScaledBackend',
     'make_backend',
+    'installed',
+    'resolve_solver',
 ]
