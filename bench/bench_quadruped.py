@@ -18,8 +18,10 @@ The standing controller of orca_ros.examples.quadruped (4 point contacts with fr
 existence conditions, 6-D base task, posture, torque / position / velocity limits: 42 QP variables)
 holds the robot for --seconds of simulated time, from a 1 mm drop; only update() is timed, from the
 200th cycle, under the default solve budget (one 1 ms period); failed cycles (where the node's
-fallback would apply) are counted. Floor: for the same QPs, one Pinocchio computeAllTerms plus one
-warm-started dense ProxQP update+solve.
+fallback would apply) are counted. Floor, per solver: for the QPs of that solver's run (captured
+in a second run, in the solver's units and layout: bench/peer/qp_solvers.py), one Pinocchio
+computeAllTerms plus one warm-started solve by that solver with the controller's settings. The
+default solver's (DAQP) is the floor.
 
 Usage: python bench/bench_quadruped.py [--seconds 5]
 """
@@ -28,13 +30,17 @@ from __future__ import annotations
 
 import argparse
 import gc
+import os
+import sys
 import time
 
 import numpy as np
 from orca_ros.examples import quadruped as quad
 from orca_ros.sim import SimServer
-import pinocchio as pin
-import proxsuite
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), 'peer'))
+
+import qp_solvers  # noqa: E402
 
 
 def run(solver: str, seconds: float, capture=None):
@@ -56,43 +62,22 @@ def run(solver: str, seconds: float, capture=None):
                 times.append(time.perf_counter() - t0)
                 if not ok:  # the fallback would apply: counted, reported
                     failed.append(k)
-                if capture is not None:
-                    p = c.get_problem_at_level(0)
-                    capture.append(
-                        (robot._q_pin.copy(), robot._v_pin.copy())
-                        + tuple(
-                            a.copy() for a in (p.H, p.g, p.A, p.b, p.C, p.l, p.u, p.lbox, p.ubox)
-                        )
-                    )
+                if capture is not None and ok:
+                    capture.append(qp_solvers.snapshot(c, robot))
                 sim.set_joint_torque_command(c.get_joint_torque_command(), by_name)
                 server.step()
         finally:
             gc.enable()
+    run.problem = c.get_problem_at_level(0)
     return np.asarray(times[200:]) * 1e6, robot, failed
 
 
-def floor(captured, robot):
-    model, data = robot.model, robot.model.createData()
-    first = captured[0]
-    nx, n_eq, n_in = first[2].shape[0], first[4].shape[0], first[6].shape[0]
-    qp = proxsuite.proxqp.dense.QP(nx, n_eq, n_in, True)
-    qp.settings.eps_abs = 1e-9
-    qp.settings.eps_rel = 0.0
-    qp.settings.eps_primal_inf = 1e-10
-    qp.settings.eps_dual_inf = 1e-10
-    qp.init(*first[2:])
-    qp.solve()
-    qp.settings.initial_guess = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
-    times = []
-    gc.disable()
-    for q, v, *mats in captured:
-        t0 = time.perf_counter()
-        pin.computeAllTerms(model, data, q, v)
-        qp.update(*mats)
-        qp.solve()
-        times.append(time.perf_counter() - t0)
-    gc.enable()
-    return np.asarray(times[200:]) * 1e6
+def floor(solver, captured, robot, problem):
+    lay = problem.layout
+    r = qp_solvers.time_floor(
+        robot.model, captured, solver, lay.nx, problem.n_eq, problem.n_in, lay.variable_scale
+    )
+    return r['total'][200:] * 1e6
 
 
 def main(argv=None) -> int:
@@ -110,13 +95,11 @@ def main(argv=None) -> int:
         '  failed cycles (first ones)'
     )
     for solver in ('daqp', 'proxqp', 'osqp'):
-        cap = [] if solver == 'proxqp' else None
-        ts, robot, failed = run(solver, args.seconds, cap)
-        fl = f'{"":>22}'
-        if cap is not None:
-            f = floor(cap, robot)
-            fl = f'{np.median(f):>11.1f}{np.percentile(f, 99):>11.1f}'
-            ts, _, failed = run(solver, args.seconds)  # timed without the capture's copies
+        cap = []
+        _, crobot, _ = run(solver, args.seconds, cap)  # the floor's QPs (times: with the copies)
+        f = floor(solver, cap, crobot, run.problem)
+        fl = f'{np.median(f):>11.1f}{np.percentile(f, 99):>11.1f}'
+        ts, robot, failed = run(solver, args.seconds)  # timed without the capture's copies
         print(
             f'{solver:<9}{np.median(ts):>9.1f}{np.percentile(ts, 99):>9.1f}{fl}'
             f'  {len(failed)} {failed[:5]}'

@@ -22,14 +22,18 @@ task following a moving point, posture, torque/position/velocity limits), the pr
 (example-robot-data, 38 DoF: both soles as rectangular surface contacts, CoM sway +-5 cm at 0.5 Hz,
 posture). Both controllers close the same kinematic loop for 2 s at 1 kHz and report per-step time
 (state in -> torques out) and the final task error (a lag: the references carry no feed-forward).
-The floor is Pinocchio's computeAllTerms + one warm-started dense ProxQP solve of orca_ros's QP of
-each step: what any Python controller on this stack spends at least.
+The floor is Pinocchio's computeAllTerms + one warm-started solve of orca_ros's QP of each step
+(captured, in the solver's units and layout): what any Python controller on this stack spends at
+least with that solver. It is printed for each of the controller's solvers (--floor-solvers);
+the one of the default solver (DAQP), marked *, is the floor: floor / TSID compares like with like
+(bench/bench_solvers.py times the solvers alone on the same QPs).
 
 Each (scenario, implementation) runs in its own process, interleaved round by round so that the
 machine's load hits all of them alike; the ratios are of the medians over rounds. TSID runs in a
 side venv (Python 3.13, built or reused by bench/tsid_venv.sh).
 
 Usage: python bench/bench_tsid.py [--rounds 5] [--scenarios panda quadruped talos] [--steps N]
+       [--solvers daqp] [--floor-solvers daqp proxqp osqp]
 """
 
 from __future__ import annotations
@@ -69,6 +73,12 @@ def main(argv=None) -> int:
     ap.add_argument(
         '--solvers', nargs='+', default=[None], help='orca_ros solvers (default: its default)'
     )
+    ap.add_argument(
+        '--floor-solvers',
+        nargs='+',
+        default=['daqp', 'proxqp', 'osqp'],
+        help='solvers whose floor is timed (the default solver, DAQP, is the floor)',
+    )
     args = ap.parse_args(argv)
     tpy = tsid_python()
     steps = [] if args.steps is None else ['--steps', str(args.steps)]
@@ -80,7 +90,8 @@ def main(argv=None) -> int:
                 [sys.executable, 'run_orca.py'] + ([] if s is None else ['--solver', s]),
             )
         )
-    impls.append(('floor', [sys.executable, 'run_orca.py', '--floor']))
+    for s in args.floor_solvers:
+        impls.append((f'floor_{s}', [sys.executable, 'run_orca.py', '--floor', '--solver', s]))
     res = {}
     for r in range(args.rounds):
         order = impls if r % 2 == 0 else impls[::-1]
@@ -92,7 +103,8 @@ def main(argv=None) -> int:
     print(
         f'per-step time, microseconds (median over {args.rounds} interleaved rounds of each '
         "process's median "
-        f'and p99); ratio = orca_ros / TSID'
+        f'and p99); ratio = row / TSID; floor = computeAllTerms + one warm solve of the same '
+        "QP (* the default solver's: the floor)"
     )
     print(
         f'{"scenario":<10}{"impl":<14}{"median":>9}{"p99":>9}{"ratio":>8}{"failures":>10}  final '
@@ -116,6 +128,8 @@ def main(argv=None) -> int:
                 )
                 if name == 'tsid':
                     rel = ' '.join(f'{k} {v:.5f}' for k, v in err.items())
+            if outs[-1].get('default'):
+                name += ' *'
             print(f'{sc:<10}{name:<14}{med:>9.1f}{p99:>9.1f}{med / ref:>8.2f}{fails:>10}  {rel}')
     return 0
 

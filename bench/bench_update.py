@@ -20,8 +20,10 @@ torque/position/velocity limits):
     still);
   * closed_loop: the arm's dynamics integrated from q = 0 towards its target (moving state, active
     velocity limits), update() timed only.
-Floor: for the same QPs, a Pinocchio computeAllTerms call plus one warm-started dense ProxQP
-update+solve (the least any Python controller on this stack can spend).
+Floor, per solver: for the QPs of that solver's run (captured in a second run, in the solver's
+units and layout: bench/peer/qp_solvers.py), a Pinocchio computeAllTerms call plus one
+warm-started solve by that solver with the controller's settings (the least any Python controller
+on this stack can spend with it). The default solver's (DAQP) is the floor.
 
 Usage: python bench/bench_update.py [--cycles 3000]
 """
@@ -30,6 +32,8 @@ from __future__ import annotations
 
 import argparse
 import gc
+import os
+import sys
 import time
 
 import numpy as np
@@ -42,8 +46,10 @@ from orca_ros.examples.common import (
     make_robot,
 )
 from orca_ros.examples.simulating_results import reachable_target
-import pinocchio as pin
-import proxsuite
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), 'peer'))
+
+import qp_solvers  # noqa: E402
 
 
 def _stats(ts):
@@ -75,51 +81,23 @@ def scenario(solver: str, cycles: int, moving: bool, capture=None):
                 misses += 1
                 continue
             if capture is not None:
-                p = c.get_problem_at_level(0)
-                capture.append(
-                    (
-                        q.copy(),
-                        v.copy(),
-                        p.H.copy(),
-                        p.g.copy(),
-                        p.C.copy(),
-                        p.l.copy(),
-                        p.u.copy(),
-                        p.lbox.copy(),
-                        p.ubox.copy(),
-                    )
-                )
+                capture.append(qp_solvers.snapshot(c, robot))
             if moving:
                 q, v = integrate(robot, q, v, c.get_joint_torque_command(), dt)
     finally:
         gc.enable()
     scenario.misses = misses
+    scenario.problem = c.get_problem_at_level(0)
+    scenario.model = robot.model
     return times
 
 
-def floor(captured):
-    robot = orca.RobotModel()
-    robot.load_model_from_file(orca.default_urdf_path())
-    model, data = robot.model, robot.data
-    nx, n_in = captured[0][2].shape[0], captured[0][4].shape[0]
-    qp = proxsuite.proxqp.dense.QP(nx, 0, n_in, True)
-    qp.settings.eps_abs = 1e-9
-    qp.settings.eps_rel = 0.0
-    qp.settings.verbose = False
-    q, v, H, g, C, l, u, lb, ub = captured[0]
-    qp.init(H, g, None, None, C, l, u, lb, ub)
-    qp.solve()
-    qp.settings.initial_guess = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
-    times = []
-    gc.disable()
-    for q, v, H, g, C, l, u, lb, ub in captured:
-        t0 = time.perf_counter()
-        pin.computeAllTerms(model, data, q, v)
-        qp.update(H, g, None, None, C, l, u, lb, ub)
-        qp.solve()
-        times.append(time.perf_counter() - t0)
-    gc.enable()
-    return times
+def floor(solver, captured, problem, model):
+    lay = problem.layout
+    r = qp_solvers.time_floor(
+        model, captured, solver, lay.nx, problem.n_eq, problem.n_in, lay.variable_scale
+    )
+    return r['total']
 
 
 def main(argv=None) -> int:
@@ -128,7 +106,10 @@ def main(argv=None) -> int:
     )
     ap.add_argument('--cycles', type=int, default=3000)
     args = ap.parse_args(argv)
-    print(f'update() timing, lwr 7-DoF, {args.cycles} cycles each (microseconds)')
+    print(
+        f'update() timing, lwr 7-DoF, {args.cycles} cycles each (microseconds); floor: '
+        "computeAllTerms + the row's solver on the same QPs"
+    )
     print(
         f'{"scenario":<20}{"solver":<9}{"median":>9}{"p99":>9}{"misses":>8}{"floor med":>11}'
         f'{"floor p99":>11}'
@@ -136,15 +117,15 @@ def main(argv=None) -> int:
     for moving, name in ((False, 'simple_controller'), (True, 'closed_loop')):
         for solver in ('daqp', 'proxqp', 'osqp'):
             scenario(solver, 200, moving)  # warm-up (imports, first factorisations)
-            cap = [] if solver == 'proxqp' else None
             med, p99 = _stats(scenario(solver, args.cycles, moving, capture=None))
             misses = scenario.misses
-            fl = ''
-            if solver == 'proxqp':
-                scenario(solver, args.cycles, moving, capture=cap)
-                fmed, fp99 = _stats(floor(cap))
-                fl = f'{fmed:>11.1f}{fp99:>11.1f}'
-            print(f'{name:<20}{solver:<9}{med:>9.1f}{p99:>9.1f}{misses:>8d}{fl}')
+            cap = []
+            scenario(solver, args.cycles, moving, capture=cap)  # untimed: the floor's QPs
+            fmed, fp99 = _stats(floor(solver, cap, scenario.problem, scenario.model))
+            print(
+                f'{name:<20}{solver:<9}{med:>9.1f}{p99:>9.1f}{misses:>8d}{fmed:>11.1f}'
+                f'{fp99:>11.1f}'
+            )
     return 0
 
 

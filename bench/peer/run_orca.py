@@ -17,7 +17,9 @@ One scenario of scenarios.py run with orca_ros (default settings); prints one JS
 Timed per step: set_robot_state + Controller.update() + reading the torque command (what the node
 does between a new state and its command). ``--floor`` times instead the least any Python
 controller on this stack spends on the same problem: one Pinocchio computeAllTerms + one
-warm-started dense ProxQP solve of the controller's own QP of that step (captured beforehand).
+warm-started solve of the controller's own QP of that step (captured beforehand, in the solver's
+units and layout: see qp_solvers.py), by the default solver (DAQP) unless ``--solver`` names
+another (daqp, proxqp, osqp, piqp).
 
 Usage: python run_orca.py SCENARIO [--steps N] [--solver NAME] [--floor]
 """
@@ -168,75 +170,82 @@ def run(name, n_steps=None, solver=None, capture=None):
     }
 
 
-def floor(name, n_steps=None):
+def capture(name, n_steps=None):
     """
-    Time the floor: computeAllTerms and one warm-started dense ProxQP solve of the same QPs.
+    Run the scenario with the default solver and keep every cycle's QP (see qp_solvers.snapshot).
 
-    The QP values are captured in a first run.
+    Returns (the Pinocchio model, the controller, the captured cycles).
     """
-    import proxsuite
+    import qp_solvers
 
     sc = S.SCENARIOS[name]
     n = n_steps or S.steps(sc)
     robot, model, c, h, q, v = build(sc)
-    p = c.get_problem_at_level(0)
     cap = []
     for k in range(n):
         t = k * S.DT
         _set_refs(h, t)
         set_state(robot, q, v)
         c.update(t, S.DT)
-        cap.append(
-            (robot._q_pin.copy(), robot._v_pin.copy())
-            + tuple(a.copy() for a in (p.H, p.g, p.A, p.b, p.C, p.l, p.u, p.lbox, p.ubox))
-        )
+        cap.append(qp_solvers.snapshot(c, robot))
         dv = c.get_solution()[: model.nv]
         v = v + S.DT * dv
         q = pin.integrate(model, q, S.DT * v)
-    data = model.createData()
-    nx, ne, ni = p.layout.nx, p.n_eq, p.n_in
-    qp = proxsuite.proxqp.dense.QP(nx, ne, ni, True)
-    qp.settings.eps_abs = 1e-9
-    qp.settings.eps_rel = 0.0
-    qp.settings.verbose = False
+    return model, c, cap
 
-    def args(c_):
-        return (
-            c_[2],
-            c_[3],
-            c_[4] if ne else None,
-            c_[5] if ne else None,
-            c_[6] if ni else None,
-            c_[7] if ni else None,
-            c_[8] if ni else None,
-            c_[9],
-            c_[10],
-        )
-    qp.init(*args(cap[0]))
-    qp.solve()
-    qp.settings.initial_guess = proxsuite.proxqp.InitialGuess.WARM_START_WITH_PREVIOUS_RESULT
-    times = np.empty(n)
-    gc.collect()
-    gc.disable()
-    for k, c_ in enumerate(cap):
-        t0 = time.perf_counter()
-        pin.computeAllTerms(model, data, c_[0], c_[1])
-        qp.update(*args(c_))
-        qp.solve()
-        times[k] = time.perf_counter() - t0
-    gc.enable()
-    return {'impl': 'floor', 'scenario': name, **S.stats(times[min(100, n // 10):])}
+
+def floor(name, n_steps=None, solver=None):
+    """
+    Time the floor: computeAllTerms and one warm-started solve of each captured QP by ``solver``.
+
+    The QPs are the controller's (default solver) of a first run, in solver units; ``solver``:
+    daqp, proxqp, osqp (the controller's back-ends and settings) or piqp; None: the controller's
+    default. Also reported: the solve alone, the solver's mean iterations, its failures and its
+    largest deviation from the controller's solution (relative to max(1, |x|_inf)).
+    """
+    import qp_solvers
+
+    model, c, cap = capture(name, n_steps)
+    solver = solver or c.solver.value
+    p = c.get_problem_at_level(0)
+    nx, ne, ni = p.layout.nx, p.n_eq, p.n_in
+    r = qp_solvers.time_floor(model, cap, solver, nx, ne, ni, p.layout.variable_scale)
+    total, solve, iters = r['total'], r['solve'], r['iterations']
+    n = len(cap)
+    skip = min(100, n // 10)
+    sol = S.stats(solve[skip:])
+    return {
+        'impl': f'floor_{solver}',
+        'solver': solver,
+        'default': solver == c.solver.value,
+        'scenario': name,
+        **S.stats(total[skip:]),
+        'solve_median_us': sol['median_us'],
+        'solve_p99_us': sol['p99_us'],
+        'iterations_mean': float(np.mean(iters[skip:])),
+        'failures': r['failures'],
+        'max_rel_dev': r['max_rel_dev'],
+        'nvar': int(nx),
+        'neq': int(ne),
+        'nin': int(ni),
+    }
 
 
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument('scenario', choices=sorted(S.SCENARIOS))
     ap.add_argument('--steps', type=int, default=None)
-    ap.add_argument('--solver', default=None)
+    ap.add_argument(
+        '--solver',
+        default=None,
+        help="the controller's solver; with --floor, the floor's (or piqp); default: the default",
+    )
     ap.add_argument('--floor', action='store_true')
     a = ap.parse_args()
     print(
-        json.dumps(floor(a.scenario, a.steps) if a.floor else run(a.scenario, a.steps, a.solver))
+        json.dumps(
+            floor(a.scenario, a.steps, a.solver) if a.floor else run(a.scenario, a.steps, a.solver)
+        )
     )
 
 
