@@ -42,6 +42,7 @@ from ..constraint.generic_constraint import GenericConstraint
 from ..task.generic_task import GenericTask
 from ..task.regularisation_task import RegularisationTask
 from ..utils.logger import get_logger
+from ..utils.optional_import import MissingDependency
 
 _LOG = get_logger('controller')
 
@@ -50,6 +51,7 @@ class Controller(TaskRegistryMixin):
     #: time budget of a new controller's cycles [s]; None: one control period (the dt of each
     #: update). Offline users (tests judging physics, batch simulations) may raise it for all.
     default_time_budget: float | None = None
+    _warned_no_numba = False
 
     def __init__(
         self,
@@ -58,6 +60,7 @@ class Controller(TaskRegistryMixin):
         resolution_strategy=ResolutionStrategy.ONE_LEVEL_WEIGHTED,
         solver=QPSolver.DAQP,
         log_solver_fallback: bool = True,
+        compiled: bool = True,
     ):
         if robot is None or getattr(robot, 'model', None) is None:
             raise ValueError('Controller needs a RobotModel with a loaded URDF')
@@ -73,6 +76,9 @@ class Controller(TaskRegistryMixin):
         if self.solver_fallback and log_solver_fallback:
             _LOG.warning(self.solver_fallback)
         self.layout = ProblemLayout(robot)
+        # the cycle by numba kernels (optim/compiled/); False: the reference path, in Python
+        self.compiled = bool(compiled)
+        self.compiled_cycle = None
         self._tasks: list[GenericTask] = []
         self._constraints: list[GenericConstraint] = []
         self._problems: list[WeightedProblem] = []
@@ -210,7 +216,22 @@ class Controller(TaskRegistryMixin):
             for o in self._tasks + self._constraints
             if o.rows() > 0 or getattr(o, 'is_contact', False)
         ]  # contacts: ramps
+        self.compiled_cycle = self._compile() if self.compiled else None
         self._dirty = False
+
+    def _compile(self):
+        """Lower the configuration into the compiled cycle (None: the reference path)."""
+        from .compiled import CompiledCycle  # noqa: PLC0415 - numba only when compiled
+
+        try:
+            cycle = CompiledCycle(self, self._plan)
+        except MissingDependency as exc:
+            if not Controller._warned_no_numba:
+                _LOG.warning('%s: the reference path runs (slower)', exc)
+                Controller._warned_no_numba = True
+            return None
+        _LOG.debug("controller '%s': %s", self.name, cycle.describe())
+        return cycle
 
     def get_problem_at_level(self, level: int = 0) -> WeightedProblem:
         """Return the QP of priority level ``level`` (its per-level solution is ``.x``)."""
@@ -252,8 +273,11 @@ class Controller(TaskRegistryMixin):
             self._configure()
             deadline = None
         self.layout.update()
-        for obj in self._updated:
-            obj.update(current_time, dt)
+        if self.compiled_cycle is not None:
+            self.compiled_cycle.update(current_time, dt)
+        else:
+            for obj in self._updated:
+                obj.update(current_time, dt)
         self._plan.update()
         problem, code, dropped = self._levels.solve(
             deadline, self._max_iterations, self.priorities, self.name

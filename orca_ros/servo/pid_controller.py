@@ -45,20 +45,20 @@ class PIDController:
         self.__init__(dimension)
 
     def set_proportional_gain(self, gain) -> None:
-        self._p = _as_gain(gain, self.dimension, 'proportional gain')
+        self._p[:] = _as_gain(gain, self.dimension, 'proportional gain')  # in place: views
 
     def set_integral_gain(self, gain) -> None:
-        self._i = _as_gain(gain, self.dimension, 'integral gain')
+        self._i[:] = _as_gain(gain, self.dimension, 'integral gain')
 
     def set_derivative_gain(self, gain) -> None:
-        self._d = _as_gain(gain, self.dimension, 'derivative gain')
+        self._d[:] = _as_gain(gain, self.dimension, 'derivative gain')
 
     def set_windup_limit(self, limit) -> None:
         """Bound on |I * integral(e)| per axis (the integral term's contribution)."""
         lim = _as_gain(limit, self.dimension, 'windup limit')
         if np.any(lim < 0):
             raise ValueError('windup limit must be >= 0')
-        self._windup = lim
+        self._windup[:] = lim
 
     def get_proportional_gain(self) -> np.ndarray:
         return self._p.copy()

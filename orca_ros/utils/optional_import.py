@@ -28,6 +28,7 @@ PIP = {
     'ruckig': 'ruckig==0.19.4',
     'pybullet': 'pybullet==3.2.7',
     'rosbags': 'rosbags==0.11.9',
+    'numba': 'numba==0.68.1',
 }
 
 
