@@ -275,10 +275,11 @@ class Controller(TaskRegistryMixin):
         self.layout.update()
         if self.compiled_cycle is not None:
             self.compiled_cycle.update(current_time, dt)
+            self.compiled_cycle.assemble()
         else:
             for obj in self._updated:
                 obj.update(current_time, dt)
-        self._plan.update()
+            self._plan.update()
         problem, code, dropped = self._levels.solve(
             deadline, self._max_iterations, self.priorities, self.name
         )

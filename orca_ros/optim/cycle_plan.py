@@ -72,17 +72,31 @@ class CyclePlan:
         self.E = np.zeros((n, nx))
         self.f = np.zeros(n)
         self.w = np.zeros(n)
-        for t, rows in zip(tasks, self.task_rows):
+        self.sel = np.zeros(n)  # the tasks' selection vectors, packed (views rebound below)
+        self.row_task = np.zeros(n, dtype=np.int64)  # dense row -> index in self.tasks
+        for i, (t, rows) in enumerate(zip(tasks, self.task_rows)):
             self.E[rows] = t.E
             self.f[rows] = t.f
-            t.E, t.f = self.E[rows], self.f[rows]
-        # diagonal tasks (every level's problem has the regularisation): per-task ws and wsf
-        # buffers
+            self.sel[rows] = t.selection
+            self.row_task[rows] = i
+            t.E, t.f, t.selection = self.E[rows], self.f[rows], self.sel[rows]
+        # diagonal tasks (every level's problem has the regularisation): f, selection, column
+        # weights and the products ws (weight x selection x column weight) and wsf (ws x f),
+        # packed one task after another; the tasks' f and selection are views on them
         self.diagonal_tasks = [regularisation] + [t for lev in self.diagonal for t in lev]
-        self.ws = {id(t): np.zeros(t.rows()) for t in self.diagonal_tasks}
+        self.diagonal_rows, m = _stack(self.diagonal_tasks, nx, lambda t: t.rows())
+        self.diag_f, self.diag_sel = np.zeros(m), np.zeros(m)
+        self.diag_colw, self.diag_ws, self.diag_wsf = np.ones(m), np.zeros(m), np.zeros(m)
+        self.ws, self.wsf = {}, {}
+        for t, rows in zip(self.diagonal_tasks, self.diagonal_rows):
+            self.diag_f[rows] = t.f
+            self.diag_sel[rows] = t.selection
+            if t.column_weights is not None:
+                self.diag_colw[rows] = t.column_weights
+            t.f, t.selection = self.diag_f[rows], self.diag_sel[rows]
+            self.ws[id(t)], self.wsf[id(t)] = self.diag_ws[rows], self.diag_wsf[rows]
         self._weight_keys = [None] * len(tasks)
         self._diagonal_keys = [None] * len(self.diagonal_tasks)
-        self.wsf = {id(t): np.zeros(t.rows()) for t in self.diagonal_tasks}
         # dense rows of each level, and of each level together with every level above it
         self.level_rows, self.prefix_rows, k = [], [], 0
         for lev in dense:
@@ -119,6 +133,13 @@ class CyclePlan:
             c.C, c.lb, c.ub = self.C[rows], self.l[rows], self.u[rows]
         self._eq_rows, self._in_rows = eq_rows, in_rows
         self._relaxed = {id(c): False for c in self.eq + self.ineq}
+        # joint box constraints' bounds, packed (views rebound): soft ones first, then hard
+        boxes = self.soft_box + self.hard_box
+        self.box_lb = np.zeros((len(boxes), layout.ndof))
+        self.box_ub = np.zeros((len(boxes), layout.ndof))
+        for k, c in enumerate(boxes):
+            self.box_lb[k], self.box_ub[k] = c.lb, c.ub
+            c.lb, c.ub = self.box_lb[k], self.box_ub[k]
         self._lbox_joints = self.lbox[layout.joint_acc]
         self._ubox_joints = self.ubox[layout.joint_acc]
         self.box_conflicts = 0

@@ -82,6 +82,8 @@ class WeightedProblem:
         self._stacked = not self.locked and hasattr(self.backend, 'solve_stacked')
         self.x = np.zeros(nx)
         self.return_code = ReturnCode.NOT_SOLVED
+        # True when the compiled cycle forms H and g (optim/compiled/plan_assembly.py)
+        self.prebuilt = False
 
     def _make_backend(self):
         lay = self.layout
@@ -120,6 +122,8 @@ class WeightedProblem:
 
         G = -E^T W f - w_r f_r over this level's stacked rows (W, the row weights).
         """
+        if self.prebuilt:
+            return
         H, g = self.H, self.g
         if self._E.shape[0]:
             np.multiply(self._E, self._w, out=self._WE)

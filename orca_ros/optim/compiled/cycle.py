@@ -24,6 +24,7 @@ from __future__ import annotations
 import time
 
 from .lowering import lower
+from .plan_assembly import PlanAssembly
 from ...utils.logger import get_logger
 
 _LOG = get_logger('compiled')
@@ -35,7 +36,6 @@ class CompiledCycle:
 
         t0 = time.perf_counter()
         kernels.warm_up()
-        self.compile_seconds = time.perf_counter() - t0
         self.items = []  # (lowered object or None, the object), in the reference path's order
         self.in_python: dict[str, str] = {}  # object name -> why it is not lowered
         for obj in controller._updated:
@@ -44,6 +44,8 @@ class CompiledCycle:
             if low is None:
                 self.in_python[obj.name] = why
         self.lowered = sum(low is not None for low, _ in self.items)
+        self.assembly = PlanAssembly(plan, controller._problems[0])
+        self.compile_seconds = time.perf_counter() - t0
 
     def update(self, t: float, dt: float) -> None:
         for low, obj in self.items:
@@ -51,6 +53,10 @@ class CompiledCycle:
                 obj.update(t, dt)
             elif low.step(t):
                 low.fill(t, dt)
+
+    def assemble(self) -> None:
+        """The plan's update and the first level's H and g (CyclePlan.update's twin)."""
+        self.assembly.update()
 
     def describe(self) -> str:
         rest = ', '.join(f'{n} ({why})' for n, why in self.in_python.items())
