@@ -11,19 +11,92 @@
 # WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
 # See the License for the specific language governing permissions and
 # limitations under the License.
-import importlib.util
+import fnmatch
+import importlib
 import os
+import time
+from types import SimpleNamespace
 
 import numpy as np
 import orca_ros as orca
 import pytest
 
-# the core's tests run without ROS; the nodes' tests (and the colcon build) need rclpy
-collect_ignore_glob = []
-if importlib.util.find_spec('rclpy') is None:
-    collect_ignore_glob += ['test_ros_*.py', 'test_colcon_package.py']
-if importlib.util.find_spec('colcon_core') is None:
-    collect_ignore_glob += ['test_colcon_package.py']
+# Optional parts: the core's tests run without ROS; the nodes' tests (and the colcon build) need
+# rclpy, the colcon build colcon too. A missing (or broken: it does not import) part is reported:
+# each of its files as one skipped collection with the reason, and a line at the end of the run.
+# Under CI (CI=true) a skipped group fails the run: a broken install must not look like a smaller
+# green suite.
+OPTIONAL_GROUPS = {
+    'ROS 2 nodes': ('rclpy', ('test_ros_*.py', 'test_colcon_package.py')),
+    'colcon package': ('colcon_core', ('test_colcon_package.py',)),
+}
+_IMPORT_ERRORS: dict = {}  # module -> None (imports) or why not
+_SKIPPED_GROUPS: dict = {}  # group -> (reason, [file names])
+
+
+def _import_error(module: str):
+    if module not in _IMPORT_ERRORS:
+        try:
+            importlib.import_module(module)
+            _IMPORT_ERRORS[module] = None
+        except Exception as exc:  # noqa: BLE001 - a broken install raises anything
+            _IMPORT_ERRORS[module] = f'{type(exc).__name__}: {exc}'
+    return _IMPORT_ERRORS[module]
+
+
+class _SkippedModule(pytest.Module):
+    """A test file of a missing optional part: never imported, reported as skipped."""
+
+    reason = ''
+
+    def collect(self):
+        raise pytest.skip.Exception(self.reason, allow_module_level=True)
+
+
+def pytest_pycollect_makemodule(module_path, parent):
+    for group, (module, patterns) in OPTIONAL_GROUPS.items():
+        if not any(fnmatch.fnmatch(module_path.name, p) for p in patterns):
+            continue
+        error = _import_error(module)
+        if error is not None:
+            reason = f'optional part missing: {group} (import {module}: {error})'
+            _SKIPPED_GROUPS.setdefault(group, (reason, []))[1].append(module_path.name)
+            skipped = _SkippedModule.from_parent(parent, path=module_path)
+            skipped.reason = reason
+            return skipped
+    return None
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_make_collect_report(collector):
+    """Report a skipped module at its own file (not at the line of this file that skips it)."""
+    if isinstance(collector, _SkippedModule):
+        where = (str(collector.path), 1, f'Skipped: {collector.reason}')
+        return pytest.CollectReport(collector.nodeid, 'skipped', where, [])
+    return None
+
+
+def _ci() -> bool:
+    return os.environ.get('CI', '').strip().lower() in ('true', '1', 'yes')
+
+
+def pytest_sessionfinish(session, exitstatus):
+    if _SKIPPED_GROUPS and _ci() and exitstatus in (0, pytest.ExitCode.NO_TESTS_COLLECTED):
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED
+
+
+def pytest_terminal_summary(terminalreporter):
+    for group, (reason, files) in _SKIPPED_GROUPS.items():
+        terminalreporter.write_line(
+            f'SKIPPED {len(files)} test files ({", ".join(sorted(files))}): {reason}',
+            yellow=True,
+        )
+    if _SKIPPED_GROUPS and _ci():
+        terminalreporter.write_line(
+            'FAILED: CI=true and a whole group of tests was skipped (install the missing part)',
+            red=True,
+            bold=True,
+        )
 
 
 _REAL_TIME_BUDGET = orca.Controller.default_time_budget
@@ -148,6 +221,79 @@ def com_sway_in_pybullet():
         return np.array(errors), failures
 
     return run
+
+
+@pytest.fixture(scope='session')
+def quadruped_push():
+    """
+    Push the example's standing quadruped (PyBullet, 1 kHz) on its trunk at 0.5 s.
+
+    ``push(gain=None, force=100.0, duration=0.1, seconds=2.0, solver='daqp', **settings)``:
+    ``force`` [N] a number (along y) or a 3-vector, for ``duration`` s; ``gain`` the feet's
+    velocity feedback gain (None: the example's); settings: the example's
+    (``QuadrupedController``). Returns a namespace: ``failures`` (failed cycles),
+    ``failures_in_time`` (failed cycles whose update ended within the cycle's time budget: the
+    budget, not a busy machine, cut them), ``longest_failed_run``, ``codes`` (return codes of the
+    failed cycles), ``relaxed`` (cycles the elastic contacts carried), ``max_tilt`` (largest angle
+    between the trunk's z axis and the vertical [rad]), ``slide`` (largest foot displacement after
+    0.4 s [m]), ``base`` (final trunk position) and ``budget`` (the controller's solve budget:
+    ``(None, None)`` is the shipped one period).
+    """
+    from orca_ros.examples.quadruped import (
+        insert_standing,
+        LEGS,
+        make_robot,
+        QuadrupedController,
+        STAND_HEIGHT,
+        state_from_sim,
+    )
+    from orca_ros.sim import SimServer
+
+    def push(gain=None, force=100.0, duration=0.1, seconds=2.0, solver='daqp', **settings):
+        robot = make_robot()
+        qc = QuadrupedController(robot, solver, **settings)
+        if gain is not None:
+            for leg in LEGS:
+                qc.contacts[leg].set_velocity_feedback_gain(gain)
+        force = [0.0, force, 0.0] if np.ndim(force) == 0 else list(force)
+        home = np.array([0.0, 0.0, STAND_HEIGHT])
+        r = SimpleNamespace(failures=0, failures_in_time=0, longest_failed_run=0, codes=[],
+                            relaxed=0, max_tilt=0.0, slide=0.0, base=None,
+                            budget=qc.controller.get_solver_budget())
+        run, feet0 = 0, None
+        with SimServer(time_step=0.001) as server:
+            sim, by_name = insert_standing(server)
+            dt = server.time_step
+            for k in range(int(round(seconds / dt))):
+                t = k * dt
+                state_from_sim(robot, sim, by_name)
+                qc.set_base_target(home)
+                budget = qc.controller.get_solver_budget()[0] or dt
+                t0 = time.perf_counter()
+                ok = qc.update(t, dt)
+                took = time.perf_counter() - t0
+                if not ok:
+                    r.failures += 1
+                    r.failures_in_time += took <= budget
+                    r.codes.append(qc.controller.get_return_code().value)
+                run = 0 if ok else run + 1
+                r.longest_failed_run = max(r.longest_failed_run, run)
+                r.relaxed += qc.controller.contacts_relaxed()
+                sim.set_joint_torque_command(qc.controller.get_joint_torque_command(), by_name)
+                if 0.5 <= t < 0.5 + duration:
+                    sim.apply_external_force('trunk', force)
+                server.step()
+                z_axis = sim.get_world_to_base_transform()[:3, 2]
+                r.max_tilt = max(r.max_tilt, float(np.arccos(np.clip(z_axis[2], -1.0, 1.0))))
+                feet = np.array([sim.get_link_position(f'{leg}_foot')[:2] for leg in LEGS])
+                if k == 400:  # settled, before the push
+                    feet0 = feet
+                if feet0 is not None:
+                    r.slide = max(r.slide, float(np.linalg.norm(feet - feet0, axis=1).max()))
+            r.base = sim.get_world_to_base_transform()[:3, 3]
+        return r
+
+    return push
 
 
 @pytest.fixture

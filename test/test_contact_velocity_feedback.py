@@ -19,71 +19,37 @@ existence condition J nu_dot + J_dot nu = 0 a foot set sliding keeps its speed (
 slide ~105 mm at 100 N); with J nu_dot + J_dot nu = -gain J nu the slip decays and the feet stay
 within 5 mm. At 150 N the example's standing controller holds from every side; with the trunk's
 axes weighted alike, or with the position limits' default braking, it tips over.
+
+Budget: these runs judge physics, so they keep the suite's offline budget (10 s per cycle, see
+conftest; every run asserts it). Under the shipped budget (one 1 ms period) DAQP, the default,
+holds the push as well, with no failed cycle (test_budget.py); ProxQP and OSQP do not hold it
+there, so they are tested here with the offline budget only. Measured on the push from behind,
+3000 cycles, 1 ms budget: ProxQP varies from run to run (a landing cycle cut short or not decides
+it), 2222-2487 failed cycles and a fall (tilt 24-58 deg) on 5 of 7 runs, 4 and 21 failed cycles
+standing on the 2 others; OSQP 2495 failed cycles and a 36-38 deg tilt on every run (its floor
+of 200 iterations is its whole cap at 1 ms, so the machine's load does not change it).
 """
 
 import numpy as np
-from orca_ros.examples.quadruped import (
-    insert_standing,
-    LEGS,
-    make_robot,
-    QuadrupedController,
-    STAND_HEIGHT,
-    state_from_sim,
-)
-from orca_ros.sim import SimServer
+from orca_ros.examples.quadruped import make_robot, QuadrupedController, STAND_HEIGHT
 import pytest
 
-
-def _push(gain=None, force=100.0, duration=0.1, seconds=2.0, solver='daqp', **settings):
-    """Push the trunk along y (``force`` a number) or by a 3-vector; settings: the example's."""
-    robot = make_robot()
-    qc = QuadrupedController(robot, solver, **settings)
-    if gain is not None:  # None: the example's
-        for leg in LEGS:
-            qc.contacts[leg].set_velocity_feedback_gain(gain)
-    push = [0.0, force, 0.0] if np.ndim(force) == 0 else list(force)
-    home = np.array([0.0, 0.0, STAND_HEIGHT])
-    failures, slide, feet0 = 0, 0.0, None
-    run = _push.longest_failed_run = _push.relaxed = 0
-    _push.max_tilt = 0.0  # largest angle between the trunk's z axis and the vertical [rad]
-    with SimServer(time_step=0.001) as server:
-        sim, by_name = insert_standing(server)
-        dt = server.time_step
-        for k in range(int(round(seconds / dt))):
-            t = k * dt
-            state_from_sim(robot, sim, by_name)
-            qc.set_base_target(home)
-            ok = qc.update(t, dt)
-            failures += not ok
-            run = 0 if ok else run + 1
-            _push.longest_failed_run = max(_push.longest_failed_run, run)
-            _push.relaxed += qc.controller.contacts_relaxed()
-            sim.set_joint_torque_command(qc.controller.get_joint_torque_command(), by_name)
-            if 0.5 <= t < 0.5 + duration:
-                sim.apply_external_force('trunk', push)
-            server.step()
-            z_axis = sim.get_world_to_base_transform()[:3, 2]
-            _push.max_tilt = max(_push.max_tilt, float(np.arccos(np.clip(z_axis[2], -1.0, 1.0))))
-            feet = np.array([sim.get_link_position(f'{leg}_foot')[:2] for leg in LEGS])
-            if k == 400:  # settled, before the push
-                feet0 = feet
-            if feet0 is not None:
-                slide = max(slide, float(np.linalg.norm(feet - feet0, axis=1).max()))
-        base = sim.get_world_to_base_transform()[:3, 3]
-    return slide, failures, base
+OFFLINE = (10.0, None)  # the suite's solve budget: 10 s per cycle, the solver's iteration cap
 
 
-def test_without_feedback_a_pushed_foot_keeps_sliding():
-    slide, failures, _ = _push(gain=0.0)
-    assert failures == 0
-    assert slide > 0.05  # the defect the feedback removes
+def test_without_feedback_a_pushed_foot_keeps_sliding(quadruped_push):
+    r = quadruped_push(gain=0.0)
+    assert r.budget == OFFLINE
+    assert r.failures == 0
+    assert r.slide > 0.05  # the defect the feedback removes
 
 
-def test_velocity_feedback_keeps_the_feet_in_place_under_a_push():
-    slide, failures, base = _push(gain=200.0)
-    assert failures == 0
-    assert slide < 5e-3, f'a foot slid {slide * 1e3:.1f} mm'
-    np.testing.assert_allclose(base, [0.0, 0.0, STAND_HEIGHT], atol=5e-3)  # the trunk recovered
+def test_velocity_feedback_keeps_the_feet_in_place_under_a_push(quadruped_push):
+    r = quadruped_push(gain=200.0)
+    assert r.budget == OFFLINE
+    assert r.failures == 0
+    assert r.slide < 5e-3, f'a foot slid {r.slide * 1e3:.1f} mm'
+    np.testing.assert_allclose(r.base, [0.0, 0.0, STAND_HEIGHT], atol=5e-3)  # the trunk recovered
 
 
 def test_the_gain_is_checked():
@@ -99,33 +65,43 @@ HOME = [0.0, 0.0, STAND_HEIGHT]
 @pytest.mark.parametrize(
     'force', [[0.0, 150.0, 0.0], [0.0, -150.0, 0.0], [150.0, 0.0, 0.0], [-150.0, 0.0, 0.0]]
 )
-def test_a_150_newton_push_from_any_side_is_recovered(force):
+def test_a_150_newton_push_from_any_side_is_recovered(quadruped_push, force):
     """
-    No fall, no run of failed cycles, the trunk back home (measured: tilt <= 3.1 deg, 0 failures).
+    No fall, no failed cycle, the trunk back home (measured: tilt <= 3.1 deg, 0 failures).
 
     The example's defaults: horizontal weight 5, contact velocity gain 200 /s, joint braking
-    100 rad/s^2 (see QuadrupedController).
+    100 rad/s^2 (see QuadrupedController). Offline budget; the shipped one: test_budget.py.
     """
-    _, failures, base = _push(force=force, seconds=3.0)
-    assert _push.longest_failed_run <= 10
-    assert _push.max_tilt < np.radians(10.0), f'tilted {np.degrees(_push.max_tilt):.1f} deg'
-    np.testing.assert_allclose(base, HOME, atol=0.02)
+    r = quadruped_push(force=force, seconds=3.0)
+    assert r.budget == OFFLINE
+    assert r.failures == 0, r.codes
+    assert r.max_tilt < np.radians(10.0), f'tilted {np.degrees(r.max_tilt):.1f} deg'
+    np.testing.assert_allclose(r.base, HOME, atol=0.02)
 
 
 @pytest.mark.parametrize('solver', ['proxqp', 'osqp'])
-def test_the_other_solvers_hold_the_150_newton_push_too(solver):
-    """Measured: ProxQP no failed cycle, OSQP 4 (at most 2 in a row) on the push from behind."""
-    _, failures, base = _push(force=[150.0, 0.0, 0.0], seconds=3.0, solver=solver)
-    assert _push.longest_failed_run <= 10
-    assert _push.max_tilt < np.radians(10.0), f'tilted {np.degrees(_push.max_tilt):.1f} deg'
-    np.testing.assert_allclose(base, HOME, atol=0.02)
+def test_the_other_solvers_hold_the_push_with_the_offline_budget(quadruped_push, solver):
+    """
+    With 10 s per cycle. Measured on the push from behind: ProxQP no failed cycle; OSQP 4-7.
+
+    OSQP's failed cycles (iteration cap or a false 'primal infeasible' at the push) come at most
+    2 in a row. Under the shipped 1 ms budget neither holds the push (see the module's docstring).
+    """
+    r = quadruped_push(force=[150.0, 0.0, 0.0], seconds=3.0, solver=solver)
+    assert r.budget == OFFLINE
+    if solver == 'proxqp':
+        assert r.failures == 0, r.codes
+    else:
+        assert r.failures <= 10 and r.longest_failed_run <= 3, (r.failures, r.codes)
+    assert r.max_tilt < np.radians(10.0), f'tilted {np.degrees(r.max_tilt):.1f} deg'
+    np.testing.assert_allclose(r.base, HOME, atol=0.02)
 
 
 @pytest.mark.parametrize(
     'setting',
     [{'horizontal_weight': 1.0}, {'joint_braking': 5.0}, {'contact_velocity_gain': 0.0}],
 )
-def test_without_any_one_setting_the_quadruped_tips_over(setting):
+def test_without_any_one_setting_the_quadruped_tips_over(quadruped_push, setting):
     """
     The three settings the push needs, each taken back to its former value: the robot tips over.
 
@@ -138,11 +114,12 @@ def test_without_any_one_setting_the_quadruped_tips_over(setting):
     rigid contacts is solved again with the existence conditions as a heavy cost (elastic
     contacts). Before them it failed ~1500 cycles in a row, holding its last command.
     """
-    _push(force=150.0, seconds=3.0, **setting)
-    assert _push.max_tilt > np.radians(45.0)  # on its side
-    assert _push.longest_failed_run <= 10
+    r = quadruped_push(force=150.0, seconds=3.0, **setting)
+    assert r.budget == OFFLINE
+    assert r.max_tilt > np.radians(45.0)  # on its side
+    assert r.longest_failed_run <= 10
     if 'contact_velocity_gain' in setting:
-        assert _push.relaxed > 100  # cycles the elastic contacts carried
+        assert r.relaxed > 100  # cycles the elastic contacts carried
 
 
 @pytest.mark.parametrize(

@@ -28,9 +28,9 @@ def _controller(urdf, strategy, solver, with_elbow=True, with_posture=False):
     robot.set_robot_state(Q, V)
     c = orca.Controller('c', robot, strategy, solver)
     # these tests are about the hierarchy's semantics, not the real-time bound (that is
-    # test_budget.py): the default budget of one 1 ms period is wall-clock time, which two
-    # CPU-burning neighbours halve (measured: cut solves under load); OSQP (ADMM) needs hundreds of
-    # iterations here, more than 1 ms even when idle
+    # test_budget.py and test_ros_budget.py, marked real_time_budget): the default budget of one
+    # 1 ms period is wall-clock time, which two CPU-burning neighbours halve (measured: cut solves
+    # under load); OSQP (ADMM) needs hundreds of iterations here, more than 1 ms even when idle
     c.set_solver_budget(time_budget=0.1)
     ee = c.add_task(orca.CartesianTask, 'ee', level=0)
     ee.set_control_frame('link_7')

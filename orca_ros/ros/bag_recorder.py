@@ -21,6 +21,12 @@ packages. Time stamps are the node's clock: simulated time with ``use_sim_time``
 the bridge publishes ``/clock``), else wall time. The bag is closed on SIGINT / SIGTERM.
 ``/robot_description`` is recorded with its transient-local QoS, so the plot command finds the
 robot (and its limits) in the bag itself.
+
+Receipts: on each topic of ``confirm_topics`` (default: the end effector's target), each distinct
+message is logged once as ``recorded <topic> message <crc32 of its CDR, 8 hex digits>`` (see
+:func:`receipt`). A sender that must have its message in the bag (the main job's targets: a
+publisher that nothing else waits for may not be matched with the recorder yet when it first
+sends) repeats it until that line is in the recorder's log.
 """
 
 from __future__ import annotations
@@ -28,6 +34,7 @@ from __future__ import annotations
 import importlib
 import os
 import sys
+import zlib
 
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
@@ -44,9 +51,15 @@ DEFAULT_TOPICS = [
     '/orca_controller/cycle_timing std_msgs/msg/Float64MultiArray',
     '/diagnostics diagnostic_msgs/msg/DiagnosticArray',
 ]
+DEFAULT_CONFIRM_TOPICS = ['/orca_controller/tasks/ee/target_pose']
 # deep queues: a recorder that falls behind for a moment must not drop the 1 kHz streams
 _BEST_EFFORT = QoSProfile(depth=5000, reliability=ReliabilityPolicy.BEST_EFFORT)
 _RELIABLE = QoSProfile(depth=5000, reliability=ReliabilityPolicy.RELIABLE)
+
+
+def receipt(topic: str, data: bytes) -> str:
+    """Return the log line the recorder writes for a message (CDR bytes ``data``) on ``topic``."""
+    return f'recorded {topic} message {zlib.crc32(bytes(data)):08x}'
 
 
 def _message_class(type_name: str):
@@ -62,6 +75,8 @@ class BagRecorder(GuardedNode):
         output = str(param(self, 'output', 'orca_run'))
         topics = list(param(self, 'topics', DEFAULT_TOPICS) or DEFAULT_TOPICS)
         best_effort = set(param(self, 'best_effort_topics', ['/joint_states', '/odom']) or [])
+        confirm = set(param(self, 'confirm_topics', DEFAULT_CONFIRM_TOPICS) or [])
+        self._receipts: dict[str, set] = {t: set() for t in confirm}
         if os.path.exists(output):
             raise ValueError(f"'{output}' exists: a bag is never overwritten")
         typestore = typesys.get_typestore(typesys.Stores.ROS2_JAZZY)
@@ -96,6 +111,12 @@ class BagRecorder(GuardedNode):
         self.counts[topic] += 1
         if self.counts[topic] == 1:  # a launcher may wait for this before starting the robot
             self.get_logger().info(f'first message on {topic}')
+        seen = self._receipts.get(topic)
+        if seen is not None:
+            line = receipt(topic, data)
+            if line not in seen:  # a sender waits for this to know the bag has its message
+                seen.add(line)
+                self.get_logger().info(line)
 
     def destroy_node(self):
         self.writer.close()

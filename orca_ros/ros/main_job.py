@@ -19,7 +19,8 @@ domain), sends a sequence of Cartesian targets on ``~/tasks/ee/target_pose``, ru
 ``~/deactivate`` / ``~/activate`` cycle, then prints a report (tracking error and settle time per
 target, solve time, limit margins, what saturated). The run is recorded in a rosbag2 file (MCAP:
 joint states, commands, targets, task error, solve time per cycle, diagnostics, the URDF) by
-``bag_recorder``, and drawn from that file by the ``plot`` command's code. Lockstep simulation by
+``bag_recorder`` (each target is sent until the arm moves and the recorder has it), and drawn from
+that file by the ``plot`` command's code. Lockstep simulation by
 default (deterministic, faster than real time); ``--realtime`` runs the bridge at wall-clock rate
 with the controller on its timer; ``--gui`` shows PyBullet.
 """
@@ -36,6 +37,7 @@ import numpy as np
 from .launch_free import free_domain_id, Procs
 from .probe import Probe
 
+TARGET_TOPIC = '/orca_controller/tasks/ee/target_pose'
 OFFSETS = [
     np.array(o)
     for o in ([0.10, 0.0, 0.0], [0.10, -0.15, 0.05], [0.0, -0.15, -0.10], [0.0, 0.0, 0.0])
@@ -60,6 +62,26 @@ def _wait_reached(probe, target, tol, timeout_sim):
             t_in = None
         time.sleep(0.01)
     return float('nan')
+
+
+def _in_bag(procs, T):
+    """
+    Return a predicate: the recorder has the target message the probe sends for pose ``T``.
+
+    The message is built as ``Probe.send_target`` builds it (no stamp, base frame); the recorder
+    logs a receipt for each distinct message on the target topic.
+    """
+    from geometry_msgs.msg import PoseStamped  # noqa: PLC0415
+    from rclpy.serialization import serialize_message  # noqa: PLC0415
+
+    from .bag_recorder import receipt  # noqa: PLC0415
+    from .common import matrix_to_pose  # noqa: PLC0415
+
+    msg = PoseStamped()
+    msg.header.frame_id = ''
+    matrix_to_pose(T, msg.pose)
+    line = receipt(TARGET_TOPIC, serialize_message(msg))
+    return lambda: line in procs.log('recorder')
 
 
 def _launch_robot(procs, args, mode: str) -> None:
@@ -112,6 +134,7 @@ def main(argv=None) -> int:
         'orca_ros.ros.bag_recorder',
         '-p', f'output:={bag}',
         '-p', f'use_sim_time:={"false" if args.realtime else "true"}',
+        '-p', f"confirm_topics:=['{TARGET_TOPIC}']",  # receipts of the targets (see _in_bag)
         name='recorder',
     )
     procs.wait_log('recorder', 'recording', timeout=60)
@@ -141,8 +164,11 @@ def main(argv=None) -> int:
             T = start.copy()
             T[:3, 3] += off
             targets.append(T)
-            # repeated until the arm moves (discovery may drop a new publisher's first messages)
-            probe.send_target('ee', T, until=probe.moved_towards(T))
+            # repeated until the arm moves and the bag has it: discovery may drop a new
+            # publisher's first messages, on each subscriber separately (under load the recorder
+            # once matched the target publisher after the controller did and lost a target)
+            moved, in_bag = probe.moved_towards(T), _in_bag(procs, T)
+            probe.send_target('ee', T, until=lambda: moved() and in_bag())
             settle = _wait_reached(probe, T, args.tolerance, 6.0)
             err = np.linalg.norm(probe.ee_pose()[:3, 3] - T[:3, 3])
             rows.append((f'target {k + 1}', T[:3, 3], err, settle))
