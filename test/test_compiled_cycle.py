@@ -133,16 +133,39 @@ def test_compiled_equals_reference_on_random_states(case, strategy, example_robo
     )
 
 
-def test_no_kernel_compiles_in_a_control_cycle(lwr_urdf):
-    from orca_ros.optim.compiled import kernels
+@pytest.mark.parametrize('floating', [False, True])
+def test_no_kernel_compiles_in_a_control_cycle(lwr_urdf, floating):
+    from orca_ros.optim.compiled import assembly, fill, kernels
 
-    robot, c, ee, post = _make(lwr_urdf, 'link_7', True, 'one_level_weighted', 'base_link')
-    robot.set_robot_state(np.full(7, 0.3), np.zeros(7))
-    c.get_levels()  # configuration: the kernels are made here
-    before = {k: len(f.signatures) for k, f in vars(kernels).items() if hasattr(f, 'signatures')}
-    assert c.update(0.0, 1e-3)
-    after = {k: len(f.signatures) for k, f in vars(kernels).items() if hasattr(f, 'signatures')}
-    assert after == before
+    def signatures():
+        return {
+            (m.__name__, k): len(f.signatures)
+            for m in (assembly, fill, kernels)
+            for k, f in vars(m).items()
+            if hasattr(f, 'signatures')
+        }
+
+    robot = orca.RobotModel()
+    robot.load_model_from_file(lwr_urdf, floating_base=floating)
+    robot.set_base_frame('world')
+    c = orca.Controller('c', robot)
+    c.add_task(orca.CartesianTask, 'ee').set_control_frame('link_7')
+    c.add_task(orca.JointAccelerationTask, 'posture')
+    c.add_constraint(orca.JointTorqueLimitConstraint, 'torque')
+    c.add_constraint(orca.JointPositionLimitConstraint, 'position')
+    c.activate_tasks_and_constraints()
+    c.get_levels()  # configuration: the kernels are made here, before any state
+    before = signatures()
+    if floating:
+        robot.set_robot_state(np.eye(4), np.full(7, 0.3), np.zeros(6), np.zeros(7), [0, 0, -9.81])
+    else:
+        robot.set_robot_state(np.full(7, 0.3), np.zeros(7))
+    for k in range(3):
+        c.update(k * 1e-3, 1e-3)
+    assert c.compiled_cycle is not None and not c.compiled_cycle.in_python.keys() - {
+        'DynamicsEquation'
+    }
+    assert signatures() == before
 
 
 def test_python_only_objects_still_run_beside_the_kernels(lwr_urdf):

@@ -275,7 +275,6 @@ class Controller(TaskRegistryMixin):
         self.layout.update()
         if self.compiled_cycle is not None:
             self.compiled_cycle.update(current_time, dt)
-            self.compiled_cycle.assemble()
         else:
             for obj in self._updated:
                 obj.update(current_time, dt)

@@ -82,8 +82,10 @@ class WeightedProblem:
         self._stacked = not self.locked and hasattr(self.backend, 'solve_stacked')
         self.x = np.zeros(nx)
         self.return_code = ReturnCode.NOT_SOLVED
-        # True when the compiled cycle forms H and g (optim/compiled/plan_assembly.py)
+        # True when the compiled cycle forms H and g (optim/compiled/plan_assembly.py), which
+        # then tells whether they are finite
         self.prebuilt = False
+        self.built_finite = True
 
     def _make_backend(self):
         lay = self.layout
@@ -146,7 +148,9 @@ class WeightedProblem:
     def solve(self) -> ReturnCode:
         # states, targets, gains and limits are validated where they enter; the matrices built from
         # them are finite unless a task computed garbage, which shows in the cost
-        if not math.isfinite(self.H.sum() + self.g.sum()):
+        if not (
+            self.built_finite if self.prebuilt else math.isfinite(self.H.sum() + self.g.sum())
+        ):
             self.return_code = ReturnCode.NON_FINITE_PROBLEM
             return self.return_code
         if self._stacked:  # the plan's arrays are already in the solver's layout

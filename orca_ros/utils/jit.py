@@ -15,17 +15,69 @@
 numba's ``njit`` as the compiled cycle uses it: cached on disk, no Python objects, no GIL.
 
 The cache goes next to the package's sources (``__pycache__``) where they are writable; where the
-package is installed read-only (a ROS install under /opt), numba falls back to a user-writable
-folder (its user-wide cache locator, under ``$XDG_CACHE_HOME`` or ``~/.cache``), and
-``NUMBA_CACHE_DIR`` names one explicitly. Without numba, importing this raises MissingDependency
-with the pip line (the controller then runs its reference path and says so).
+package is installed read-only (a ROS install under /opt), to a user-writable folder (numba's
+user-wide cache, under ``$XDG_CACHE_HOME`` or ``~/.cache``); ``NUMBA_CACHE_DIR`` names one
+explicitly. numba judges a cached kernel by its own source file only, while the cycle's kernels
+call each other across files: here every kernel of the package is stamped with a digest of all
+the package's kernel sources, so that a change to any of them recompiles all.
+
+Without numba, importing this raises MissingDependency with the pip line (the controller then
+runs its reference path and says so).
 """
 
 from __future__ import annotations
 
+import glob
+import hashlib
+import os
+
 from .optional_import import optional_import
 
 numba = optional_import('numba', 'the compiled control cycle', 'or compiled: false')
+
+from numba.core import caching  # noqa: E402 - after the optional import that names the package
+
+_PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+_SOURCES = sorted(
+    glob.glob(os.path.join(_PACKAGE, 'optim', 'compiled', '*.py')) + [os.path.abspath(__file__)]
+)
+
+
+def _digest() -> str:
+    h = hashlib.sha256()
+    for path in _SOURCES:
+        with open(path, 'rb') as fh:
+            h.update(fh.read())
+    return h.hexdigest()
+
+
+_STAMP = _digest()
+
+
+def _ours(py_file: str) -> bool:
+    return os.path.abspath(py_file).startswith(_PACKAGE + os.sep)
+
+
+def _stamped(base):
+    class Locator(base):
+        def get_source_stamp(self):
+            return _STAMP
+
+        @classmethod
+        def from_function(cls, py_func, py_file):
+            return super().from_function(py_func, py_file) if _ours(py_file) else None
+
+    Locator.__name__ = f'OrcaStamped{base.__name__}'
+    return Locator
+
+
+if not getattr(caching.CacheImpl, '_orca_stamped', False):
+    caching.CacheImpl._locator_classes[0:0] = [
+        _stamped(caching.UserProvidedCacheLocator),
+        _stamped(caching.InTreeCacheLocator),
+        _stamped(caching.UserWideCacheLocator),
+    ]
+    caching.CacheImpl._orca_stamped = True
 
 
 def njit(fn):

@@ -127,17 +127,3 @@ def assemble(E, f, w, sel, row_task, ew,
             hi[jb + i] = min(max(hi[jb + i], box_lb[k, i]), box_ub[k, i])
     return conflict
 
-
-def warm_up() -> None:
-    """Compile (or load) the kernel for the types the cycle passes."""
-    i64 = np.int64
-    nx = 2
-    assemble(
-        np.zeros((1, nx)), np.zeros(1), np.zeros(1), np.ones(1), np.zeros(1, i64), np.ones(1),
-        np.zeros(nx), np.ones(nx), np.ones(nx), np.zeros(nx), np.zeros(nx),
-        np.array([[0, nx, 0]], dtype=i64), np.ones(1),
-        1, 1, np.zeros((nx, nx)), np.zeros(nx), np.zeros((1, nx)),
-        np.zeros((1, nx)), np.zeros(nx + 1), np.zeros(nx + 1), nx, 0,
-        np.array([[0, 0, 1, 0]], dtype=i64), np.ones(1, i64),
-        np.zeros((1, nx)), np.zeros((1, nx)), np.ones(1, i64), 1, 0, nx,
-    )

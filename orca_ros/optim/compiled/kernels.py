@@ -275,25 +275,3 @@ def position_box(q, v, lo, hi, acc, dt, horizon, lb, ub):
         ub[i] = viable_upper(min(hi[i] - q[i], _FAR), v[i], acc[i], dt, h, True)
         lb[i] = -viable_upper(min(q[i] - lo[i], _FAR), -v[i], acc[i], dt, h, True)
 
-
-def warm_up() -> None:
-    """
-    Compile (or load from the disk cache) every kernel for the array types the cycle passes.
-
-    Pinocchio's matrices are column-major (rotations, data.J), everything else row-major: the
-    dummies have the same layouts, so that no control cycle compiles anything.
-    """
-    f64 = np.float64
-    R = np.asfortranarray(np.eye(3))
-    J = np.asfortranarray(np.zeros((6, 2)))
-    E = np.zeros((6, 2))
-    v6 = np.zeros(6, dtype=f64)
-    cartesian_rows(
-        np.zeros(CART_SIZE), R, np.zeros(3), v6, v6.copy(), J, np.ones(2, dtype=np.bool_), E,
-        np.zeros(6), 0, 1e-3, np.zeros(64),
-    )
-    n = 2
-    joint_rows(np.zeros(JOINT_BLOCKS * n), n, np.zeros(n), np.zeros(n), np.zeros(n), 1e-3,
-               np.zeros(n))
-    position_box(np.zeros(n), np.zeros(n), -np.ones(n), np.ones(n), np.ones(n), 1e-3, 0.05,
-                 np.zeros(n), np.zeros(n))

@@ -24,13 +24,16 @@ tasks in a moving base frame, anything with compute callbacks) run their Python 
 same order, into the same arrays: the solve that follows is the reference path's.
 
 Lowered so far: CartesianTask (static base frame), JointAccelerationTask, the regularisation,
-torque / position (viable) / velocity / acceleration limits.
+torque / position (viable) / velocity / acceleration limits. Each lowered object owns one row of
+the fill kernel's table (:mod:`.fill`); :meth:`_Lowered.step` runs its life cycle and refreshes
+what the Python API may have replaced (a new servo, new limits) before the kernel runs.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from . import fill, kernels
 from ...common.task_base import ActivationState
 from ...constraint.joint_limit_constraints import (
     JointAccelerationLimitConstraint,
@@ -45,54 +48,114 @@ from ...task.regularisation_task import RegularisationTask
 _INACTIVE = (ActivationState.INIT, ActivationState.DEACTIVATED)
 
 
-def _rebind(owner, attr: str, record: np.ndarray, start: int, shape=None):
+def _rebind(owner, attr: str, record: np.ndarray, start: int) -> None:
     """Copy ``owner.attr`` into ``record[start:]`` and make the attribute a view on it."""
     value = np.asarray(getattr(owner, attr), dtype=float)
     view = record[start: start + value.size]
     view[:] = value.reshape(-1)
-    setattr(owner, attr, view.reshape(value.shape if shape is None else shape))
+    setattr(owner, attr, view.reshape(value.shape))
+
+
+def offset_in(view: np.ndarray, base: np.ndarray) -> int:
+    """Index of ``view``'s first element (1-D base) or row (2-D base) in ``base``."""
+    if not np.shares_memory(view, base):
+        raise AssertionError("an object's rows are not the plan's")
+    delta = view.__array_interface__['data'][0] - base.__array_interface__['data'][0]
+    return delta // base.strides[0]
+
+
+class Tables:
+    """The fill kernel's records and table, sized for the lowered objects."""
+
+    def __init__(self, lowered, robot):
+        n, nv = robot.get_nr_of_degrees_of_freedom(), robot.model.nv
+        count = {kind: sum(low.kind == kind for low in lowered) for kind in range(7)}
+        limited = sum(low.kind in (fill.TORQUE, fill.POSITION, fill.VELOCITY,
+                                   fill.ACCELERATION) for low in lowered)
+        self.cart = np.zeros((max(1, count[fill.CART]), kernels.CART_SIZE))
+        self.cart_sup = np.zeros((max(1, count[fill.CART]), nv), dtype=np.bool_)
+        self.jrec = np.zeros((max(1, count[fill.JOINT]), kernels.JOINT_BLOCKS * n))
+        self.lims = np.zeros((max(1, limited), 2, n))
+        self.pacc = np.ones((max(1, limited), n))
+        self.tab = np.zeros((max(1, len(lowered)), fill.TAB), dtype=np.int64)
+        self.par = np.zeros((max(1, len(lowered)), 2))
+        self.tmp = np.zeros(64 + n)
+        self.next = {'cart': 0, 'joint': 0, 'lims': 0}
+
+    def take(self, what: str) -> int:
+        i = self.next[what]
+        self.next[what] += 1
+        return i
 
 
 class _Lowered:
-    """One object computed by a kernel: its life cycle runs here, its values in ``fill``."""
+    """One object computed by the fill kernel: its table row, its life cycle."""
+
+    kind = -1
 
     def __init__(self, obj):
         self.obj = obj
 
-    def step(self, t: float) -> bool:
-        """Advance the activation ramp (as TaskBase.update); True when the object computes."""
+    def bind(self, tables: Tables, k: int, plan) -> None:
+        self.tables, self.k = tables, k
+        tables.tab[k, 0] = self.kind
+
+    def step(self, t: float) -> None:
+        """Advance the activation ramp (as TaskBase.update) and set the table's on flag."""
         obj = self.obj
         st = obj.state
         if st is ActivationState.ACTIVATED:
-            return True
-        if st in _INACTIVE:
-            return False
-        obj._step_ramp(t)
-        return obj.state not in _INACTIVE
+            on = True
+        elif st in _INACTIVE:
+            on = False
+        else:
+            obj._step_ramp(t)
+            on = obj.state not in _INACTIVE
+        if on:
+            self.refresh()
+        self.tables.tab[self.k, 1] = on
 
-    def fill(self, t: float, dt: float) -> None:
-        raise NotImplementedError
+    def refresh(self) -> None:
+        """Take what the Python API replaced since the last cycle (nothing by default)."""
+
+
+class _Limited(_Lowered):
+    """A limit constraint: its (lower, upper) pair lives in the tables (``_limits`` views)."""
+
+    def bind(self, tables, k, plan) -> None:
+        super().bind(tables, k, plan)
+        self.a = tables.take('lims')
+        tables.tab[k, 2] = self.a
+        self._take_limits()
+
+    def _take_limits(self) -> None:
+        lo, hi = self.obj._limits
+        pair = self.tables.lims[self.a]
+        pair[0], pair[1] = lo, hi
+        self.obj._limits = self.src = (pair[0], pair[1])
+
+    def refresh(self) -> None:
+        if self.obj._limits is not self.src:  # set_limits made a new pair
+            self._take_limits()
 
 
 class _Cartesian(_Lowered):
-    def __init__(self, task, plan, kernels):
-        super().__init__(task)
-        self.k = kernels
-        self.plan = plan
-        self._bind(task)
-        self.tmp = np.zeros(64)
+    kind = fill.CART
 
-    def _bind(self, task) -> None:
-        """Rebind the servo's arrays to the record and take the frame's live views."""
-        kernels, plan = self.k, self.plan
+    def bind(self, tables, k, plan) -> None:
+        super().bind(tables, k, plan)
+        self.a = tables.take('cart')
+        self.plan = plan
+        self._bind_servo()
+
+    def _bind_servo(self) -> None:
+        task, t = self.obj, self.tables
         robot = task.robot
-        servo, pid = task.servo_controller(), task.servo_controller().pid()
-        self.servo = servo
+        servo = self.servo = task.servo_controller()
+        pid = servo.pid()
         self.fid = servo._fid
         frame = robot.model.frames[self.fid]
-        joint = frame.parentJoint
-        d = robot.data
-        rec = self.rec = np.zeros(kernels.CART_SIZE)
+        rec = t.cart[self.a]
         for attr, start in (('_pose_ref', kernels.POSE_REF), ('_vel_ref', kernels.VEL_REF),
                             ('_acc_ref', kernels.ACC_REF), ('_pose', kernels.POSE),
                             ('_vel', kernels.VEL), ('_pose_err', kernels.POSE_ERR),
@@ -106,19 +169,14 @@ class _Cartesian(_Lowered):
         Tb = np.eye(4) if robot._base_is_world else robot._base_static_T
         rec[kernels.BASE_R: kernels.BASE_R + 9] = Tb[:3, :3].reshape(-1)
         rec[kernels.BASE_P: kernels.BASE_P + 3] = Tb[:3, 3]
-        # live views on Pinocchio's Data: valid as long as the Data lives (the robot's)
-        self.R, self.p = d.oMi[joint].rotation, d.oMi[joint].translation
-        self.v, self.a = d.v[joint].vector, d.a[joint].vector
-        self.J = d.J
-        self.support = np.zeros(robot.model.nv, dtype=np.bool_)
-        for j in robot.model.supports[joint]:
+        support = t.cart_sup[self.a]
+        support[:] = False
+        for j in robot.model.supports[frame.parentJoint]:
             if j > 0:
                 jm = robot.model.joints[j]
-                self.support[jm.idx_v: jm.idx_v + jm.nv] = True
-        self.E, self.f = plan.E, plan.f
-        if not np.shares_memory(task.E, plan.E):
-            raise AssertionError(f"task '{task.name}': its rows are not the plan's")
-        self.row = _row_of(task.E, plan.E)
+                support[jm.idx_v: jm.idx_v + jm.nv] = True
+        t.tab[self.k, 3] = offset_in(task.E, self.plan.E)
+        t.tab[self.k, 4] = frame.parentJoint
 
     @staticmethod
     def lowerable(task, robot) -> str:
@@ -130,31 +188,24 @@ class _Cartesian(_Lowered):
             return 'a Cartesian task without a control frame'
         return ''
 
-    def fill(self, t: float, dt: float) -> None:
+    def refresh(self) -> None:
         servo = self.servo
         if servo is not self.obj._servo or servo._fid != self.fid:
-            self._bind(self.obj)  # a new servo, or a new control frame
+            self._bind_servo()  # a new servo, or a new control frame
             servo = self.servo
         if not servo._has_desired:
             servo.hold_current_pose()  # a task switched on without a target holds its pose
-        self.k.cartesian_rows(
-            self.rec, self.R, self.p, self.v, self.a, self.J, self.support, self.E, self.f,
-            self.row, dt, self.tmp,
-        )
-
-
-def _row_of(view: np.ndarray, base: np.ndarray) -> int:
-    """First row of ``view`` (a row slice of the C-contiguous 2-D ``base``)."""
-    offset = view.__array_interface__['data'][0] - base.__array_interface__['data'][0]
-    return offset // base.strides[0]
 
 
 class _Joint(_Lowered):
-    def __init__(self, task, kernels):
-        super().__init__(task)
-        self.k = kernels
-        n = self.n = task.robot.get_nr_of_degrees_of_freedom()
-        rec = self.rec = np.zeros(kernels.JOINT_BLOCKS * n)
+    kind = fill.JOINT
+
+    def bind(self, tables, k, plan) -> None:
+        super().bind(tables, k, plan)
+        task = self.obj
+        n = task.robot.get_nr_of_degrees_of_freedom()
+        a = tables.take('joint')
+        rec = tables.jrec[a]
         for attr, block in (('_q_ref', kernels.J_Q_REF), ('_qd_ref', kernels.J_QD_REF),
                             ('_qdd_ref', kernels.J_QDD_REF), ('_q_err', kernels.J_Q_ERR),
                             ('_qd_err', kernels.J_QD_ERR)):
@@ -163,103 +214,81 @@ class _Joint(_Lowered):
         for attr, block in (('_p', kernels.J_KP), ('_i', kernels.J_KI), ('_d', kernels.J_KD),
                             ('_windup', kernels.J_WINDUP), ('_integral', kernels.J_INTEGRAL)):
             _rebind(pid, attr, rec, block * n)
-        self.q, self.v = task.robot._q, task.robot._v
-        self.tmp = np.zeros(n)
+        tables.tab[k, 2] = a
+        tables.tab[k, 3] = offset_in(task.f, plan.diag_f)
 
-    @staticmethod
-    def lowerable(task, robot) -> str:
-        return '' if type(task) is JointAccelerationTask else 'a task type the kernels do not know'
-
-    def fill(self, t: float, dt: float) -> None:
-        task = self.obj
-        if not task._has_desired:
-            task.hold_current_position()
-        self.k.joint_rows(self.rec, self.n, self.q, self.v, task.f, dt, self.tmp)
+    def refresh(self) -> None:
+        if not self.obj._has_desired:
+            self.obj.hold_current_position()
 
 
 class _Regularisation(_Lowered):
-    def __init__(self, task, kernels):
-        super().__init__(task)
-        lay = task.layout
-        self.f_acc = task.f[lay.acc]
-        self.v = task.robot._v_pin
+    kind = fill.REG
 
-    def fill(self, t: float, dt: float) -> None:
-        task = self.obj
-        if task.damping:
-            np.multiply(self.v, -task.damping, out=self.f_acc)
-        else:
-            self.f_acc.fill(0.0)
+    def bind(self, tables, k, plan) -> None:
+        super().bind(tables, k, plan)
+        tables.tab[k, 3] = offset_in(self.obj.f, plan.diag_f)
+
+    def refresh(self) -> None:
+        self.tables.par[self.k, 0] = self.obj.damping
 
 
-class _TorqueLimit(_Lowered):
-    def fill(self, t: float, dt: float) -> None:
-        c = self.obj
-        lay = c.layout
-        c.C[:] = lay.T
-        lo, hi = c._limits
-        np.subtract(lo, lay.t0, out=c.lb)
-        np.subtract(hi, lay.t0, out=c.ub)
+class _TorqueLimit(_Limited):
+    kind = fill.TORQUE
+
+    def bind(self, tables, k, plan) -> None:
+        super().bind(tables, k, plan)
+        tables.tab[k, 3] = offset_in(self.obj.C, plan.M)
 
 
-class _PositionLimit(_Lowered):
-    def __init__(self, c, kernels):
-        super().__init__(c)
-        self.k = kernels
-        self.q, self.v = c.robot._q, c.robot._v
-        self._acc_of = None
+class _JointBox(_Limited):
+    def bind(self, tables, k, plan) -> None:
+        super().bind(tables, k, plan)
+        tables.tab[k, 3] = offset_in(self.obj.lb, plan.box_lb)
 
-    def fill(self, t: float, dt: float) -> None:
-        c = self.obj
-        if self._acc_of is not c.max_acceleration:  # set_max_acceleration rebinds it
-            self._acc_of = c.max_acceleration
-            self.acc = np.array(np.broadcast_to(c.max_acceleration, self.q.size), dtype=float)
-        lo, hi = c._limits
-        self.k.position_box(self.q, self.v, lo, hi, self.acc, dt, c.horizon, c.lb, c.ub)
+    def refresh(self) -> None:
+        super().refresh()
+        self.tables.par[self.k, 0] = getattr(self.obj, 'horizon', 0.0)
 
 
-class _VelocityLimit(_Lowered):
-    def __init__(self, c, kernels):
-        super().__init__(c)
-        self.v = c.robot._v
+class _PositionLimit(_JointBox):
+    kind = fill.POSITION
+    _acc_of = None
 
-    def fill(self, t: float, dt: float) -> None:
-        c = self.obj
-        h = max(c.horizon, dt)
-        lo, hi = c._limits
-        np.multiply(lo - self.v, 1.0 / h, out=c.lb)
-        np.multiply(hi - self.v, 1.0 / h, out=c.ub)
-
-
-class _AccelerationLimit(_Lowered):
-    def fill(self, t: float, dt: float) -> None:
-        c = self.obj
-        c.lb[:], c.ub[:] = c._limits
+    def refresh(self) -> None:
+        super().refresh()
+        acc = self.obj.max_acceleration
+        if acc is not self._acc_of:  # set_max_acceleration made a new one
+            self._acc_of = acc
+            self.tables.pacc[self.a] = np.broadcast_to(acc, self.tables.pacc.shape[1])
 
 
-def _has_callbacks(obj) -> bool:
-    return obj._cb_begin is not None or obj._cb_end is not None
+class _VelocityLimit(_JointBox):
+    kind = fill.VELOCITY
 
 
-def lower(obj, plan, kernels):
+class _AccelerationLimit(_JointBox):
+    kind = fill.ACCELERATION
+
+
+_EXACT = {
+    RegularisationTask: _Regularisation,
+    JointAccelerationTask: _Joint,
+    JointTorqueLimitConstraint: _TorqueLimit,
+    JointPositionLimitConstraint: _PositionLimit,
+    JointVelocityLimitConstraint: _VelocityLimit,
+    JointAccelerationLimitConstraint: _AccelerationLimit,
+}
+
+
+def lower(obj):
     """Return the kernel-side object of ``obj``, or (None, why it stays in Python)."""
-    if _has_callbacks(obj):
+    if obj._cb_begin is not None or obj._cb_end is not None:
         return None, 'compute callbacks'
-    robot = obj.robot
     if isinstance(obj, CartesianTask):
-        why = _Cartesian.lowerable(obj, robot)
-        return (None, why) if why else (_Cartesian(obj, plan, kernels), '')
-    if isinstance(obj, JointAccelerationTask):
-        why = _Joint.lowerable(obj, robot)
-        return (None, why) if why else (_Joint(obj, kernels), '')
-    exact = {
-        RegularisationTask: lambda: _Regularisation(obj, kernels),
-        JointTorqueLimitConstraint: lambda: _TorqueLimit(obj),
-        JointPositionLimitConstraint: lambda: _PositionLimit(obj, kernels),
-        JointVelocityLimitConstraint: lambda: _VelocityLimit(obj, kernels),
-        JointAccelerationLimitConstraint: lambda: _AccelerationLimit(obj),
-    }
-    make = exact.get(type(obj))
+        why = _Cartesian.lowerable(obj, obj.robot)
+        return (None, why) if why else (_Cartesian(obj), '')
+    make = _EXACT.get(type(obj))
     if make is None:
         return None, f'{type(obj).__name__} not lowered yet'
-    return make(), ''
+    return make(obj), ''

@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-The plan's tables for the assembly kernel, and its per-cycle call (``CyclePlan.update``'s twin).
+The plan's tables for the assembly kernel, and its per-cycle flags (``CyclePlan.update``'s twin).
 
 Made at configuration from a :class:`~orca_ros.optim.cycle_plan.CyclePlan` and the first level's
 problem, which from then on is built by the kernel (``WeightedProblem.prebuilt``).
@@ -29,10 +29,6 @@ _INACTIVE = (ActivationState.INIT, ActivationState.DEACTIVATED)
 
 class PlanAssembly:
     def __init__(self, plan, problem0):
-        from . import assembly  # noqa: PLC0415
-
-        assembly.warm_up()
-        self.k = assembly
         self.plan = plan
         lay = plan.layout
         i64 = np.int64
@@ -52,17 +48,29 @@ class PlanAssembly:
             (0, plan.n_eq + r.start, r.stop - r.start) for r in plan._in_rows
         ]
         self.con_tab = np.array([[e, r0, n, 0] for e, r0, n in rows], dtype=i64).reshape(-1, 4)
-        self.con_on = np.zeros(len(self.cons), dtype=i64)
+        self.con_on = np.zeros(max(1, len(self.cons)), dtype=i64)
         self.boxes = plan.soft_box + plan.hard_box
         self.box_on = np.zeros(max(1, len(self.boxes)), dtype=i64)
         self.nsoft = len(plan.soft_box)
         self.problem = problem0
         self.WE = np.zeros((max(1, self.n0), lay.nx))
         problem0.prebuilt = True
-        self.jb, self.nj, self.nx = lay.nbase, lay.ndof, lay.nx
 
-    def update(self) -> None:
-        """Write the flags and effective weights, run the kernel, then the contacts' wrench box."""
+    def arrays(self) -> dict:
+        """The workspace fields of the plan and of the first level's problem."""
+        p, lay = self.plan, self.plan.layout
+        return dict(
+            E=p.E, f=p.f, w=p.w, sel=p.sel, row_task=p.row_task, ew=self.ew,
+            dg_f=p.diag_f, dg_sel=p.diag_sel, dg_colw=p.diag_colw, dg_ws=p.diag_ws,
+            dg_wsf=p.diag_wsf, dg_tab=self.dg_tab, dg_ew=self.dg_ew,
+            H=self.problem.H, g=self.problem.g, WE=self.WE, M=p.M, lo=p.lo, hi=p.hi,
+            con_tab=self.con_tab, con_on=self.con_on, box_lb=p.box_lb, box_ub=p.box_ub,
+            box_on=self.box_on, nx=lay.nx, ne=p.n_eq, n0=self.n0, nd0=self.nd0,
+            nsoft=self.nsoft, jb=lay.nbase, nj=lay.ndof,
+        )
+
+    def flags(self) -> None:
+        """Write this cycle's effective weights and on/off flags (after every object's step)."""
         ew = self.ew
         for i, t in enumerate(self.tasks):
             ew[i] = t.weight * t._ramp_factor if t.state not in _INACTIVE else 0.0
@@ -75,14 +83,10 @@ class PlanAssembly:
         on = self.box_on
         for i, c in enumerate(self.boxes):
             on[i] = c.state not in _INACTIVE
-        plan, p = self.plan, self.problem
-        plan.box_conflicts += self.k.assemble(
-            plan.E, plan.f, plan.w, plan.sel, plan.row_task, ew,
-            plan.diag_f, plan.diag_sel, plan.diag_colw, plan.diag_ws, plan.diag_wsf,
-            self.dg_tab, dg, self.n0, self.nd0, p.H, p.g, self.WE,
-            plan.M, plan.lo, plan.hi, self.nx, plan.n_eq, self.con_tab, self.con_on,
-            plan.box_lb, plan.box_ub, self.box_on, self.nsoft, self.jb, self.nj,
-        )
+
+    def contacts(self) -> None:
+        """The contacts' wrench bounds (Python objects), as CyclePlan._update_box."""
+        plan = self.plan
         for c in plan.contacts:
             ws = c.wrench_slice()
             if c.state not in _INACTIVE:

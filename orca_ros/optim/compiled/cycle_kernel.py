@@ -1,0 +1,45 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""The cycle's one kernel call: every lowered object's rows, then the plan's assembly."""
+
+from __future__ import annotations
+
+import math
+
+from .assembly import assemble
+from .fill import fill
+from ...utils.jit import njit
+
+
+@njit
+def run(ws, dt):
+    """
+    Fill and assemble on the workspace ``ws``; return flags: 1 soft boxes conflicted, 2 the
+    first level's H or g is not finite.
+    """
+    fill(dt, ws.J, ws.oMi, ws.vj, ws.aj, ws.q, ws.v, ws.v_pin, ws.T, ws.t0, ws.E, ws.f, ws.dg_f,
+         ws.M, ws.lo, ws.hi, ws.nx, ws.box_lb, ws.box_ub, ws.cart, ws.cart_sup, ws.jrec,
+         ws.lims, ws.pacc, ws.tab, ws.par, ws.tmp)
+    flags = assemble(ws.E, ws.f, ws.w, ws.sel, ws.row_task, ws.ew, ws.dg_f, ws.dg_sel,
+                     ws.dg_colw, ws.dg_ws, ws.dg_wsf, ws.dg_tab, ws.dg_ew, ws.n0, ws.nd0, ws.H,
+                     ws.g, ws.WE, ws.M, ws.lo, ws.hi, ws.nx, ws.ne, ws.con_tab, ws.con_on,
+                     ws.box_lb, ws.box_ub, ws.box_on, ws.nsoft, ws.jb, ws.nj)
+    s = 0.0
+    for a in range(ws.H.shape[0]):
+        s += ws.g[a]
+        for b in range(ws.H.shape[1]):
+            s += ws.H[a, b]
+    if not math.isfinite(s):
+        flags |= 2
+    return flags
