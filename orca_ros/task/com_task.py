@@ -34,7 +34,8 @@ class CoMTask(GenericTask):
         self._pid = PIDController(3)
         self._pid.set_proportional_gain(100.0)
         self._pid.set_derivative_gain(20.0)
-        self._p_ref = None
+        self._p_ref = np.zeros(3)
+        self._has_desired = False  # none yet: the task holds the CoM where it first computes
         self._v_ref = np.zeros(3)
         self._a_ref = np.zeros(3)
         self._err = np.zeros(3)
@@ -56,11 +57,13 @@ class CoMTask(GenericTask):
             if a.shape != (3,) or not np.all(np.isfinite(a)):
                 raise ValueError(f"task '{self.name}': desired CoM {what} must be 3 finite values")
             vals.append(a)
-        self._p_ref, self._v_ref, self._a_ref = vals
+        # in place: the compiled cycle reads these arrays
+        self._p_ref[:], self._v_ref[:], self._a_ref[:] = vals
+        self._has_desired = True
 
     def get_desired(self):
         return (
-            (None if self._p_ref is None else self._p_ref.copy()),
+            (self._p_ref.copy() if self._has_desired else None),
             self._v_ref.copy(),
             self._a_ref.copy(),
         )
@@ -73,7 +76,7 @@ class CoMTask(GenericTask):
 
     def _update_affine_function(self, current_time: float, dt: float) -> None:
         p, J, v, bias = self.robot.get_center_of_mass_terms()
-        if self._p_ref is None:
+        if not self._has_desired:
             self.set_desired(p)
         np.subtract(self._p_ref, p, out=self._err)
         a_des = self._a_ref + self._pid.compute_command(self._err, self._v_ref - v, dt)

@@ -67,6 +67,7 @@ class CompiledCycle:
             J=d.J, oMi=views[0], vj=views[1], aj=views[2], q=robot._q, v=robot._v,
             v_pin=robot._v_pin, T=T, t0=t0, cart=t.cart, cart_sup=t.cart_sup, jrec=t.jrec,
             lims=t.lims, pacc=t.pacc, tab=t.tab, par=t.par, tmp=t.tmp,
+            com=d.com[0], vcom=d.vcom[0], Jcom=d.Jcom, body=t.body, crec=t.crec,
             **self.assembly.arrays(),
         )
         # compile (or load) the kernel for this configuration's types, every object off: the

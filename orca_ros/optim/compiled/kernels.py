@@ -39,6 +39,10 @@ CART_SIZE = 122
 J_Q_REF, J_QD_REF, J_QDD_REF, J_KP, J_KI, J_KD, J_WINDUP, J_INTEGRAL, J_Q_ERR, J_QD_ERR = range(10)
 JOINT_BLOCKS = 10
 
+# the per-task float record of a CoM task (blocks of 3)
+C_P_REF, C_V_REF, C_A_REF, C_KP, C_KI, C_KD, C_WINDUP, C_INTEGRAL, C_ERR = range(9)
+COM_SIZE = 27
+
 _FAR = 1e6  # as viable_bound._FAR
 
 
@@ -274,4 +278,46 @@ def position_box(q, v, lo, hi, acc, dt, horizon, lb, ub):
     for i in range(q.shape[0]):
         ub[i] = viable_upper(min(hi[i] - q[i], _FAR), v[i], acc[i], dt, h, True)
         lb[i] = -viable_upper(min(q[i] - lo[i], _FAR), -v[i], acc[i], dt, h, True)
+
+
+@njit
+def com_rows(rec, com, vcom, Jcom, oMi, vj, aj, body, E, f, row, dt, tmp):
+    """
+    One CoM task: E[row:row+3] = Jcom, f = a_ref + PID(p_ref - p, v_ref - v) - bias.
+
+    The bias (the CoM's acceleration at zero joint acceleration) from every body's drift in
+    Data (``aj``, left by computeAllTerms): sum m (R (a + dw x c + w x (v + w x c))) / m_total,
+    with ``body[j]`` = [mass, lever] of joint j's body and ``body[0, 0]`` the total mass.
+    """
+    b0 = b1 = b2 = 0.0
+    for j in range(1, oMi.shape[0]):
+        m = body[j, 0]
+        if m == 0.0:
+            continue
+        cx, cy, cz = body[j, 1], body[j, 2], body[j, 3]
+        vx, vy, vz, wx, wy, wz = vj[j, 0], vj[j, 1], vj[j, 2], vj[j, 3], vj[j, 4], vj[j, 5]
+        ax, ay, az, dx, dy, dz = aj[j, 0], aj[j, 1], aj[j, 2], aj[j, 3], aj[j, 4], aj[j, 5]
+        # velocity of the body's CoM (joint axes), then its classical acceleration
+        ux, uy, uz = vx + wy * cz - wz * cy, vy + wz * cx - wx * cz, vz + wx * cy - wy * cx
+        px = ax + dy * cz - dz * cy + wy * uz - wz * uy
+        py = ay + dz * cx - dx * cz + wz * ux - wx * uz
+        pz = az + dx * cy - dy * cx + wx * uy - wy * ux
+        # rotate into the world: R is stored column-major in oMi[j, 0:9]
+        b0 += m * (oMi[j, 0] * px + oMi[j, 3] * py + oMi[j, 6] * pz)
+        b1 += m * (oMi[j, 1] * px + oMi[j, 4] * py + oMi[j, 7] * pz)
+        b2 += m * (oMi[j, 2] * px + oMi[j, 5] * py + oMi[j, 8] * pz)
+    total = body[0, 0]
+    err = rec[C_ERR * 3: C_ERR * 3 + 3]
+    derr = tmp[0:3]
+    for i in range(3):
+        err[i] = rec[C_P_REF * 3 + i] - com[i]
+        derr[i] = rec[C_V_REF * 3 + i] - vcom[i]
+    cmd = tmp[3:6]
+    pid_command(rec, C_KP * 3, C_KI * 3, C_KD * 3, C_WINDUP * 3, C_INTEGRAL * 3, err, derr, 3, dt,
+                cmd)
+    bias = (b0 / total, b1 / total, b2 / total)
+    for i in range(3):
+        f[row + i] = (rec[C_A_REF * 3 + i] + cmd[i]) - bias[i]
+        for c in range(Jcom.shape[1]):
+            E[row + i, c] = Jcom[i, c]
 

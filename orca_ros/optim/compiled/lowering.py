@@ -42,6 +42,7 @@ from ...constraint.joint_limit_constraints import (
     JointVelocityLimitConstraint,
 )
 from ...task.cartesian_task import CartesianTask
+from ...task.com_task import CoMTask
 from ...task.joint_acceleration_task import JointAccelerationTask
 from ...task.regularisation_task import RegularisationTask
 
@@ -69,7 +70,7 @@ class Tables:
 
     def __init__(self, lowered, robot):
         n, nv = robot.get_nr_of_degrees_of_freedom(), robot.model.nv
-        count = {kind: sum(low.kind == kind for low in lowered) for kind in range(7)}
+        count = {kind: sum(low.kind == kind for low in lowered) for kind in range(8)}
         limited = sum(low.kind in (fill.TORQUE, fill.POSITION, fill.VELOCITY,
                                    fill.ACCELERATION) for low in lowered)
         self.cart = np.zeros((max(1, count[fill.CART]), kernels.CART_SIZE))
@@ -80,7 +81,15 @@ class Tables:
         self.tab = np.zeros((max(1, len(lowered)), fill.TAB), dtype=np.int64)
         self.par = np.zeros((max(1, len(lowered)), 2))
         self.tmp = np.zeros(64 + n)
-        self.next = {'cart': 0, 'joint': 0, 'lims': 0}
+        self.crec = np.zeros((max(1, count[fill.COM]), kernels.COM_SIZE))
+        model = robot.model
+        self.body = np.zeros((model.njoints, 4))
+        for j in range(1, model.njoints):
+            inertia = model.inertias[j]
+            self.body[j, 0] = inertia.mass
+            self.body[j, 1:] = inertia.lever
+        self.body[0, 0] = self.body[1:, 0].sum() or 1.0
+        self.next = {'cart': 0, 'joint': 0, 'lims': 0, 'com': 0}
 
     def take(self, what: str) -> int:
         i = self.next[what]
@@ -145,6 +154,7 @@ class _Cartesian(_Lowered):
     def bind(self, tables, k, plan) -> None:
         super().bind(tables, k, plan)
         self.a = tables.take('cart')
+        tables.tab[k, 2] = self.a
         self.plan = plan
         self._bind_servo()
 
@@ -222,6 +232,31 @@ class _Joint(_Lowered):
             self.obj.hold_current_position()
 
 
+class _CoM(_Lowered):
+    kind = fill.COM
+
+    def bind(self, tables, k, plan) -> None:
+        super().bind(tables, k, plan)
+        task = self.obj
+        a = tables.take('com')
+        rec = tables.crec[a]
+        for attr, block in (('_p_ref', kernels.C_P_REF), ('_v_ref', kernels.C_V_REF),
+                            ('_a_ref', kernels.C_A_REF), ('_err', kernels.C_ERR)):
+            _rebind(task, attr, rec, 3 * block)
+        pid = task.pid()
+        for attr, block in (('_p', kernels.C_KP), ('_i', kernels.C_KI), ('_d', kernels.C_KD),
+                            ('_windup', kernels.C_WINDUP), ('_integral', kernels.C_INTEGRAL)):
+            _rebind(pid, attr, rec, 3 * block)
+        tables.tab[k, 2] = a
+        tables.tab[k, 3] = offset_in(task.E, plan.E)
+
+    def refresh(self) -> None:
+        task = self.obj
+        if not task._has_desired:  # hold the CoM where it is when the task first computes
+            task.robot._update_terms()
+            task.set_desired(task.robot.data.com[0])
+
+
 class _Regularisation(_Lowered):
     kind = fill.REG
 
@@ -272,6 +307,7 @@ class _AccelerationLimit(_JointBox):
 
 
 _EXACT = {
+    CoMTask: _CoM,
     RegularisationTask: _Regularisation,
     JointAccelerationTask: _Joint,
     JointTorqueLimitConstraint: _TorqueLimit,

@@ -35,6 +35,9 @@ FIELDS = (
     'H', 'g', 'WE', 'M', 'lo', 'hi', 'con_tab', 'con_on', 'box_lb', 'box_ub', 'box_on',
     # the lowered objects' records and table
     'cart', 'cart_sup', 'jrec', 'lims', 'pacc', 'tab', 'par', 'tmp',
+    # the centre of mass (Data's com[0], vcom[0], Jcom), the bodies' [mass, lever] (row 0: the
+    # total mass) and the CoM tasks' records
+    'com', 'vcom', 'Jcom', 'body', 'crec',
     # sizes: nx, n_eq, level 0's dense rows and diagonal tasks, soft boxes, first joint, joints
     'nx', 'ne', 'n0', 'nd0', 'nsoft', 'jb', 'nj',
 )
