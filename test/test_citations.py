@@ -19,7 +19,8 @@ present). A citation is a repository path of one of the forms checked below (a b
 script, a module of the package, a shipped configuration, a script, a URDF), or a test module's
 bare file name, which resolves under test/. A path that is part of a longer one (another
 package's urdf/ folder, a share/ directory) is not a citation of this repository; names with
-wildcards or format fields are patterns, not citations.
+wildcards or format fields are patterns, not citations; a test module's name joined to another
+folder (``tmp_path / 'test_x.py'``) is a file a test makes, not a citation.
 """
 
 from __future__ import annotations
@@ -37,7 +38,9 @@ _FORMS = [
     _START + r'(?:bench|test|orca_ros)/\w[\w./-]*?\.py' + _END,
     _START + r'config/\w[\w./-]*?\.yaml' + _END,
     _START + r'(?:scripts|urdf)/\w[\w./-]*',
-    _START + r'test_\w+\.py' + _END,
+    # a bare test module name, unless joined to a folder (``tmp_path / 'test_x.py'``: a file
+    # a test makes elsewhere)
+    _START + r"(?<!/ ')" + r'test_\w+\.py' + _END,
 ]
 CITATION = re.compile('|'.join(f'(?:{f})' for f in _FORMS))
 
@@ -66,7 +69,7 @@ def test_the_scanner_finds_each_form_and_skips_foreign_paths():
         'see bench/bench_tsid.py, test/test_qp.py and test_qp.py; config/lwr_controller.yaml,\n'
         'scripts/run_tests.sh. urdf/lwr.urdf; orca_ros/paths.py\n'
         "not: panda_description/urdf/panda.urdf, <share>/orca_ros/config/x.yaml, 'test_{n}.py',\n"
-        'test_ros_*.py, the urdf/ folder, mytest_a.py'
+        "test_ros_*.py, the urdf/ folder, mytest_a.py, tmp_path / 'test_made_here.py'"
     )
     assert [p for _, p in citations(text)] == [
         'bench/bench_tsid.py',

@@ -236,13 +236,15 @@ def test_compiled_equals_reference_on_talos(talos_standing, strategy):
     model = pair[0][0].model
     rng = np.random.default_rng(11)
     worst, own, solved = 0.0, 0.0, 0
+    com_target = None
     for k in range(500):
         q = q0.copy()
         q[:3] += rng.normal(0.0, 0.01, 3)
         q[7:] += rng.normal(0.0, 0.05, model.nq - 7)
         v = rng.normal(0.0, 0.2, model.nv)
         v_rounded = v * (1.0 + 1e-15 * rng.normal(size=v.size))
-        com_target = pair[0][0].get_center_of_mass() if k == 0 else com_target
+        if com_target is None:
+            com_target = pair[0][0].get_center_of_mass()
         ref = com_target + rng.normal(0.0, 0.02, 3)
         for i, (robot, c, com, post) in enumerate(pair):
             robot.set_configuration(q, v_rounded if i == 2 else v)
@@ -271,9 +273,11 @@ def test_compiled_equals_reference_on_talos(talos_standing, strategy):
 @pytest.mark.parametrize('strategy', ['one_level_weighted', 'multi_level_weighted', 'generalized'])
 def test_compiled_equals_reference_on_the_quadruped(strategy):
     """
-    Five Cartesian tasks (trunk, four feet), point contacts that switch off and a swing task
-    that ramps in, position/velocity/torque limits: 600 random states around standing. The
-    bound as on Talos: 1e-9, or ten times the reference's own move under 1e-15 rounding.
+    Compare on the quadruped: five Cartesian tasks, contacts switching, a swing task ramping in.
+
+    Trunk and four feet, point contacts that switch off, position/velocity/torque limits: 600
+    random states around standing. The bound as on Talos: 1e-9, or ten times the reference's own
+    move under 1e-15 rounding.
     """
     import pinocchio as pin
     from orca_ros.examples import quadruped as quad

@@ -34,8 +34,7 @@ import os
 from .optional_import import optional_import
 
 numba = optional_import('numba', 'the compiled control cycle', 'or compiled: false')
-
-from numba.core import caching  # noqa: E402 - after the optional import that names the package
+caching = optional_import('numba.core.caching', 'the compiled control cycle')
 
 _PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _SOURCES = sorted(

@@ -126,4 +126,3 @@ def assemble(E, f, w, sel, row_task, ew,
             lo[jb + i] = min(max(lo[jb + i], box_lb[k, i]), box_ub[k, i])
             hi[jb + i] = min(max(hi[jb + i], box_lb[k, i]), box_ub[k, i])
     return conflict
-

@@ -78,8 +78,9 @@ class CompiledCycle:
 
     def update(self, t: float, dt: float) -> None:
         """
-        Every object's rows and the plan's assembly (the reference path's object loop and
-        CyclePlan.update, and the first level's build).
+        Fill every object's rows and assemble the plan.
+
+        What the reference path's object loop, CyclePlan.update and the first level's build do.
         """
         for obj in self.python:
             obj.update(t, dt)

@@ -25,8 +25,9 @@ from ...utils.jit import njit
 @njit
 def run(ws, dt):
     """
-    Fill and assemble on the workspace ``ws``; return flags: 1 soft boxes conflicted, 2 the
-    first level's H or g is not finite.
+    Fill and assemble on the workspace ``ws``.
+
+    Return flags: 1 soft boxes conflicted, 2 the first level's H or g is not finite.
     """
     fill(dt, ws.J, ws.oMi, ws.vj, ws.aj, ws.q, ws.v, ws.v_pin, ws.T, ws.t0, ws.E, ws.f, ws.dg_f,
          ws.M, ws.lo, ws.hi, ws.nx, ws.box_lb, ws.box_ub, ws.cart, ws.cart_sup, ws.jrec,

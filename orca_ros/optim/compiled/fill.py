@@ -42,8 +42,9 @@ def _view(first: np.ndarray, count: int, width: int) -> np.ndarray:
 
 def data_views(model, data):
     """
-    Return (oMi, v, a): Data's joint placements (rotation column-major, translation), spatial
-    velocities and drifts as (njoints, 12), (njoints, 6), (njoints, 6) arrays on Data's memory.
+    Return Data's joint placements, velocities and drifts as arrays on Data's memory.
+
+    (oMi, v, a): (njoints, 12) [rotation column-major, translation], (njoints, 6), (njoints, 6).
 
     Pinocchio keeps each of them in one contiguous std::vector; the layout is checked here,
     element by element against the bindings, and None is returned where it does not hold (the

@@ -320,4 +320,3 @@ def com_rows(rec, com, vcom, Jcom, oMi, vj, aj, body, E, f, row, dt, tmp):
         f[row + i] = (rec[C_A_REF * 3 + i] + cmd[i]) - bias[i]
         for c in range(Jcom.shape[1]):
             E[row + i, c] = Jcom[i, c]
-

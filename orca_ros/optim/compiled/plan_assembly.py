@@ -57,20 +57,21 @@ class PlanAssembly:
         problem0.prebuilt = True
 
     def arrays(self) -> dict:
-        """The workspace fields of the plan and of the first level's problem."""
+        """Return the workspace fields of the plan and of the first level's problem."""
         p, lay = self.plan, self.plan.layout
-        return dict(
-            E=p.E, f=p.f, w=p.w, sel=p.sel, row_task=p.row_task, ew=self.ew,
-            dg_f=p.diag_f, dg_sel=p.diag_sel, dg_colw=p.diag_colw, dg_ws=p.diag_ws,
-            dg_wsf=p.diag_wsf, dg_tab=self.dg_tab, dg_ew=self.dg_ew,
-            H=self.problem.H, g=self.problem.g, WE=self.WE, M=p.M, lo=p.lo, hi=p.hi,
-            con_tab=self.con_tab, con_on=self.con_on, box_lb=p.box_lb, box_ub=p.box_ub,
-            box_on=self.box_on, nx=lay.nx, ne=p.n_eq, n0=self.n0, nd0=self.nd0,
-            nsoft=self.nsoft, jb=lay.nbase, nj=lay.ndof,
-        )
+        return {
+            'E': p.E, 'f': p.f, 'w': p.w, 'sel': p.sel, 'row_task': p.row_task, 'ew': self.ew,
+            'dg_f': p.diag_f, 'dg_sel': p.diag_sel, 'dg_colw': p.diag_colw, 'dg_ws': p.diag_ws,
+            'dg_wsf': p.diag_wsf, 'dg_tab': self.dg_tab, 'dg_ew': self.dg_ew,
+            'H': self.problem.H, 'g': self.problem.g, 'WE': self.WE, 'M': p.M, 'lo': p.lo,
+            'hi': p.hi, 'con_tab': self.con_tab, 'con_on': self.con_on, 'box_lb': p.box_lb,
+            'box_ub': p.box_ub, 'box_on': self.box_on, 'nx': lay.nx, 'ne': p.n_eq,
+            'n0': self.n0, 'nd0': self.nd0, 'nsoft': self.nsoft, 'jb': lay.nbase,
+            'nj': lay.ndof,
+        }
 
     def flags(self) -> None:
-        """Write this cycle's effective weights and on/off flags (after every object's step)."""
+        """Write this cycle's effective weights and on/off flags, after every object's step."""
         ew = self.ew
         for i, t in enumerate(self.tasks):
             ew[i] = t.weight * t._ramp_factor if t.state not in _INACTIVE else 0.0
@@ -85,7 +86,7 @@ class PlanAssembly:
             on[i] = c.state not in _INACTIVE
 
     def contacts(self) -> None:
-        """The contacts' wrench bounds (Python objects), as CyclePlan._update_box."""
+        """Set the contacts' wrench bounds (Python objects), as CyclePlan._update_box does."""
         plan = self.plan
         for c in plan.contacts:
             ws = c.wrench_slice()
