@@ -24,7 +24,8 @@ Keys (defaults in brackets): ``urdf_path`` or ``robot_description``; ``floating_
 the commands on the wire; the others are welded at their measured positions, see
 :class:`orca_ros.robot.joint_locking.LockedJoints`); ``locked_joint_tolerance`` [1e-4];
 ``solver`` [daqp]; ``resolution_strategy`` [one_level_weighted];
-``gravity_compensated_by_hardware`` [false]; ``regularisation`` {weight, damping};
+``gravity_compensated_by_hardware`` [false]; ``compiled`` [true] (the compiled cycle; false: the
+reference path); ``regularisation`` {weight, damping};
 ``lower_level_damping`` [0] (strict levels, see Controller.set_lower_level_damping); ``tasks``:
 {names: [...], <name>: {type, ...}}; ``constraints``: {names: [...], <name>: {type, ...}}.
 
@@ -142,7 +143,12 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         raise ConfigError(str(exc)) from None
     # the caller logs controller.solver_fallback where it logs (the node: its ROS logger)
     controller = Controller(
-        cfg.get('name', 'orca_controller'), robot, strategy, solver, log_solver_fallback=False
+        cfg.get('name', 'orca_controller'),
+        robot,
+        strategy,
+        solver,
+        log_solver_fallback=False,
+        compiled=bool(cfg.get('compiled', True)),
     )
     reg = cfg.get('regularisation') or {}
     if 'weight' in reg:

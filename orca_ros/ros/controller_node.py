@@ -82,6 +82,7 @@ class OrcaControllerNode(
                 ('resolution_strategy', 'one_level_weighted'),
                 ('floating_base', False),
                 ('gravity_compensated_by_hardware', False),
+                ('compiled', True),
                 ('locked_joint_tolerance', 1e-4),
             )
         }
@@ -96,6 +97,13 @@ class OrcaControllerNode(
         self.robot, self.controller = setup.robot, setup.controller
         if self.controller.solver_fallback:
             self.get_logger().warning(self.controller.solver_fallback)
+        # configure now: the compiled cycle's kernels compile (or load from their disk cache)
+        # here, not in the first control cycle
+        self.controller.get_levels()
+        cycle = self.controller.compiled_cycle
+        self.get_logger().info(
+            cycle.describe() if cycle is not None else 'reference path (compiled: false)'
+        )
         self.n = len(setup.joints)
         self.update_rate = float(param(self, 'update_rate', 1000.0))
         self.period = 1.0 / self.update_rate

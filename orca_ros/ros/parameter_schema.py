@@ -90,6 +90,7 @@ SCHEMA: tuple[ParamSpec, ...] = (
     ),
     ParamSpec('floating_base', _B, False, 'free-flyer root joint (base pose and twist from odom)'),
     ParamSpec('solver', 'str', False, 'QP solver', choices=('daqp', 'proxqp', 'osqp')),
+    ParamSpec('compiled', _B, False, 'the compiled cycle (numba); false: the reference path'),
     ParamSpec(
         'resolution_strategy',
         'str',
