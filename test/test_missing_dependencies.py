@@ -19,7 +19,8 @@ The documented behaviour (README, "ROS 2 route"):
   says so in one WARN line with daqp's pip line;
 * ruckig missing: the node refuses to start with one line naming ruckig's pip line (targets as
   steps would ask ~100 m/s^2 of the arm on the first cycle), exit code 1, no traceback;
-* a solver asked for by name (osqp) missing: refused the same way.
+* a solver asked for by name (osqp) missing: refused the same way;
+* numba missing: the controller runs its reference path (plain Python, slower) and says so once.
 
 "Missing" is made for the child process only: a ``sitecustomize`` on its PYTHONPATH sets the
 modules to None in ``sys.modules``, which Python's import system treats as not installed.
@@ -75,6 +76,26 @@ def test_core_without_daqp_falls_back_to_proxqp_and_controls(tmp_path):
     warnings = [ln for ln in out.stderr.splitlines() if 'WARNING' in ln]
     assert len(warnings) == 1, out.stderr
     assert 'pip install daqp==0.11.0' in warnings[0] and "using 'proxqp'" in warnings[0]
+    assert 'Traceback' not in out.stderr
+
+
+def test_core_without_numba_runs_the_reference_path_and_says_so_once(tmp_path):
+    out = run_python(
+        """
+        import numpy as np
+        import orca_ros as orca
+        from orca_ros.examples.simple_controller import run
+        res = run(orca.default_urdf_path(), 'daqp', duration=0.2)
+        res2 = run(orca.default_urdf_path(), 'daqp', duration=0.2)
+        print('RESULT', res['solved'] == res['cycles'], np.isfinite(res['torque']).all())
+        """,
+        hiding_env(tmp_path, 'numba'),
+    )
+    assert out.returncode == 0, out.stderr
+    assert 'RESULT True True' in out.stdout, out.stdout
+    warnings = [ln for ln in out.stderr.splitlines() if 'WARNING' in ln]
+    assert len(warnings) == 1, out.stderr  # two controllers, one line
+    assert 'pip install numba==0.68.1' in warnings[0] and 'reference path' in warnings[0]
     assert 'Traceback' not in out.stderr
 
 

@@ -221,9 +221,9 @@ class Controller(TaskRegistryMixin):
 
     def _compile(self):
         """Lower the configuration into the compiled cycle (None: the reference path)."""
-        from .compiled import CompiledCycle  # noqa: PLC0415 - numba only when compiled
-
         try:
+            from .compiled import CompiledCycle  # noqa: PLC0415 - numba only when compiled
+
             cycle = CompiledCycle(self, self._plan)
         except MissingDependency as exc:
             if not Controller._warned_no_numba:
