@@ -42,13 +42,16 @@ def test_stands_ten_seconds_and_tracks_the_sinusoid(run):
     stand = _mask(t, phases['stand'], 0.5)  # the first 0.5 s settle the 1 mm drop onto the ground
     assert phases['stand'][1] - phases['stand'][0] >= 10.0 - 1e-9
     err = np.linalg.norm(a['base'][stand] - a['base_target'][stand], axis=1)
-    assert err.max() < 2e-3
+    # standing still on four contacts, only their compliance in PyBullet moves the base: measured
+    # 1.3 um; 4x
+    assert err.max() < 5e-6, f'standing, the base moved {err.max() * 1e6:.1f} um'
     shift = _mask(t, phases['shift'])
     target_y = a['base_target'][shift, 1]
     assert target_y.max() > 0.0499 and target_y.min() < -0.0499  # +-5 cm reached by the reference
     err = np.linalg.norm(a['base'][shift] - a['base_target'][shift], axis=1)
     rms = np.sqrt(np.mean(err**2))
-    assert rms < 5e-3, f'base sinusoid tracked with rms {rms * 1e3:.2f} mm'
+    # the trunk's PD (with feed-forward) lags the 0.5 Hz sway: measured 0.114 mm; 3.5x
+    assert rms < 4e-4, f'base sinusoid tracked with rms {rms * 1e3:.3f} mm'
 
 
 def test_lifts_a_foot_and_sets_it_down(run):
@@ -58,14 +61,16 @@ def test_lifts_a_foot_and_sets_it_down(run):
     fl = feet[:, 0, :]
     z0 = fl[lift][0, 2]
     assert fl[lift, 2].max() - z0 > 0.045  # lifted ~5 cm (PyBullet foot position)
-    assert abs(fl[lift][-1, 2] - z0) < 2e-3  # and back on the ground
+    # and back on the ground: measured 0.33 um from where it stood (the same contact depth under
+    # the same load); 3x
+    assert abs(fl[lift][-1, 2] - z0) < 1e-6
     home = np.array([0.0, 0.0, quad.STAND_HEIGHT])
     base_dev = np.linalg.norm(a['base'][lift] - home, axis=1).max()
     assert base_dev < 0.02, f'base moved {base_dev * 1e3:.1f} mm while lifting the foot'
-    # the base's own 1.7 cm lean over the three other feet is commanded; around it, it holds to 2
-    # mm
+    # the base's own 1.7 cm lean over the three other feet is commanded; around it, it holds to
+    # 0.26 mm (measured: the trunk's PD following the lean); 3.8x
     track = np.linalg.norm(a['base'][lift] - a['base_target'][lift], axis=1).max()
-    assert track < 2e-3
+    assert track < 1e-3, f'base {track * 1e3:.2f} mm from its target while lifting the foot'
 
 
 def test_standing_feet_do_not_slide(run):
@@ -73,7 +78,8 @@ def test_standing_feet_do_not_slide(run):
     Over every stretch where a foot's contact is fully on (after the first 0.5 s of settling).
 
     The foot's slip -- the tangential motion of its material point on the ground, integrated from
-    PyBullet's velocities -- stays under 2 mm.
+    PyBullet's velocities -- stays under 0.1 mm (measured 0.023 mm: the contacts hold the feet
+    with the velocity feedback; 4x).
 
     (The ball feet roll, which moves their centres ~3 mm in the +-5 cm shift; that is rolling, not
     sliding, and is reported.)
@@ -89,8 +95,8 @@ def test_standing_feet_do_not_slide(run):
         for start, stop in zip(edges[::2], edges[1::2]):
             path = np.cumsum(slip[start:stop, i], axis=0) * dt
             slide = np.linalg.norm(path, axis=1).max()
-            assert slide < 2e-3, (
-                f'{leg} slid {slide * 1e3:.2f} mm between t={t[start]:.2f} and {t[stop - 1]:.2f} s'
+            assert slide < 1e-4, (
+                f'{leg} slid {slide * 1e3:.3f} mm between t={t[start]:.2f} and {t[stop - 1]:.2f} s'
             )
             roll = np.linalg.norm(feet[start:stop, i, :2] - feet[start, i, :2], axis=1).max()
             assert roll < 5e-3  # rolling of a 2 cm ball under a 5 cm base shift
@@ -120,7 +126,8 @@ def test_contact_forces_in_cone_and_ramped(run):
 
 def test_dynamics_hold_on_every_solution(run):
     a, _, _, _ = run
-    assert a['dynamics'].max() < 1e-8
+    # round-off on ~100 N of contact forces: measured 4.3e-10; 4.6x
+    assert a['dynamics'].max() < 2e-9
 
 
 # ---------------------------------------------------------------- algebra (no simulator)

@@ -26,7 +26,18 @@ from orca_ros.ros.launch_free import free_domain_id, Procs
 from orca_ros.ros.probe import Probe
 
 
+DT = 0.001  # the bridge's control period: one simulated step per command in lockstep
+RELAY = '/probe/relayed_commands'
+
+
 def test_stand_and_shift_through_the_nodes(tmp_path):
+    """
+    Stand, then sway the base +-5 cm along a sinusoid streamed by simulated time.
+
+    The probe sits in the lockstep loop (the controller's commands reach the simulator through
+    it): before forwarding the command of instant t it sends the target of t + DT, so every
+    simulated step has its own target however busy the machine is.
+    """
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
     robot = quad.make_robot()
@@ -53,27 +64,39 @@ def test_stand_and_shift_through_the_nodes(tmp_path):
         orca.share_path('config', 'quadruped_controller.yaml'),
         '-p',
         'trigger:=joint_state',
+        '-p',
+        f'command_topic:={RELAY}',
         name='controller',
     )
-    probe = Probe(domain, joints=joints)
+    probe = Probe(domain, joints=joints, relay_from=RELAY)
     try:
-        probe.wait_for(lambda: probe.sim_time() > 1.5, 90, 'the controller driving the quadruped')
+        probe.wait_for(lambda: probe.sim_time() > 1.5, 300, 'the controller driving the quadruped')
         # standing: the base holds its pose
         with probe.lock:
             odom = list(probe.odom)
         assert odom, 'no odom from the bridge'
         stand = np.array([p for t, p, _ in odom if t > 0.5])
-        assert np.abs(stand - home).max() < 2e-3
+        standing = np.abs(stand - home).max()
         # shift: a +-5 cm sinusoid streamed as target points with velocity/acceleration
-        # feed-forward
+        # feed-forward, one per simulated step
         period, amp, duration = 2.0, 0.05, 5.0
+        probe.send_target_point('base', home)  # the publisher, matched before the stream
         t0 = probe.sim_time()
-        while probe.sim_time() < t0 + duration:
-            s = probe.sim_time() - t0 + 0.001
+        sent = [0.0]
+
+        def stream():
+            # the instant the command being relayed leads to: one step after the state it
+            # answers, and after the previous one's (each command is one step; the probe's
+            # best-effort copy of the state may lag)
+            s = max(probe.sim_time() + DT - t0, sent[-1] + DT)
             y, vy, ay = quad.sinusoid(s, amp, period, duration)
             probe.send_target_point('base', home + [0, y, 0], (0, vy, 0), (0, ay, 0))
-            time.sleep(0.001)
-        probe.wait_sim(0.3)
+            sent.append(s)
+
+        probe.relay_hook = stream
+        probe.wait_for(lambda: probe.sim_time() > t0 + duration + 0.3, 600, 'the sway')
+        probe.relay_hook = None
+        assert not probe.relay_errors, probe.relay_errors
         with probe.lock:
             odom = list(probe.odom)
         shift = [(t - t0, p) for t, p, _ in odom if t0 + 0.01 < t < t0 + duration]
@@ -81,13 +104,18 @@ def test_stand_and_shift_through_the_nodes(tmp_path):
             [home + [0, quad.sinusoid(s, amp, period, duration)[0], 0] for s, _ in shift]
         )
         pos = np.array([p for _, p in shift])
-        assert np.ptp(pos[:, 1]) > 0.09  # the base did swing +-5 cm
         rms = np.sqrt(np.mean(np.sum((pos - ref) ** 2, axis=1)))
         print(
-            f'nodes: base sinusoid rms {rms * 1e3:.2f} mm, standing max '
-            f'{np.abs(stand - home).max() * 1e3:.2f} mm'
+            f'nodes: base sinusoid rms {rms * 1e3:.3f} mm, standing max {standing * 1e3:.3f} mm, '
+            f'{len(sent) - 1} targets streamed'
         )
-        assert rms < 5e-3, f'base sinusoid through the nodes tracked with rms {rms * 1e3:.2f} mm'
+        assert np.ptp(pos[:, 1]) > 0.09  # the base did swing +-5 cm
+        # settled on four feet after the 1 mm drop, only the contacts' compliance moves it:
+        # measured 0.037 mm; 4x
+        assert standing < 1.5e-4, f'standing, the base moved {standing * 1e3:.3f} mm'
+        # the trunk's PD lags the 0.5 Hz sway: measured 0.114 mm, as in-process
+        # (test_quadruped.py: the nodes add nothing once the targets follow simulated time); 3.5x
+        assert rms < 4e-4, f'base sinusoid through the nodes tracked with rms {rms * 1e3:.3f} mm'
         assert 'safe command' not in procs.log('controller')
     finally:
         probe.close()

@@ -31,6 +31,9 @@ import pytest
 
 
 _ROBOT = []
+# the node computes the hold as the probe's model does, from the same state: measured 0 Nm (bit
+# for bit); 1e-9 Nm leaves room for round-off in another summation order
+HOLD_TOL = 1e-9
 
 
 def gravity(q):
@@ -70,14 +73,28 @@ def test_signal_sends_the_hold_and_exits_cleanly(tmp_path, sig):
         log = procs.log('controller')
         assert 'Traceback' not in log and 'FATAL' not in log, log[-3000:]
         assert 'shutdown: hold command sent' in log
-        probe.wait_for(lambda: len(probe.states) > 0, 5, 'states')
-        time.sleep(0.5)  # let the last messages in flight arrive
-        last = probe.commands[-1]
-        # the hold is gravity at the last state the controller saw (one of the two last published)
-        diffs = [np.abs(last - gravity(s[1])).max() for s in probe.states[-2:]]
-        assert min(diffs) < 1.0, f'last command {last} is {min(diffs):.2f} Nm from the hold'
-        moving = np.abs(probe.commands[-3] - gravity(probe.states[-3][1])).max()
-        assert moving > 1.0, (
+
+        # the hold is gravity at the last state the controller saw: one of the last instants
+        # published (the bridge took one more step on the hold itself, and re-announces its
+        # last state while no command comes)
+        def gap():
+            with probe.lock:
+                last = probe.commands[-1] if probe.commands else None
+                instants = {s[0]: s[1] for s in probe.states[-50:]}
+            if last is None:
+                return np.inf
+            return min(np.abs(last - gravity(instants[t])).max() for t in sorted(instants)[-3:])
+
+        # the hold was acknowledged by every reliable reader, the probe's too: it is on its way
+        # to the probe's callback, which it may not have reached yet
+        probe.wait_for(lambda: gap() < HOLD_TOL, 30, 'the hold (gravity at the last state)')
+        with probe.lock:
+            before, hold = probe.commands[-2], probe.commands[-1]
+        print(
+            f'the last command is {gap():.2g} Nm from the hold, '
+            f'{np.abs(hold - before).max():.2f} Nm from the one before'
+        )
+        assert np.abs(hold - before).max() > 1.0, (
             'the arm was not moving: this test would not tell the hold from the last command'
         )
     finally:
@@ -127,11 +144,19 @@ def test_killed_controller_bridge_holds(tmp_path):
         window = after()[:2000]
         ee = np.array([probe.ee_pose(s[1])[:3, 3] for s in window])
         moved = np.linalg.norm(ee - at_kill[:3, 3], axis=1).max()
+        print(
+            f'killed at {v_kill:.3f} m/s: the end effector moved {moved * 1e3:.1f} mm, '
+            f'{np.abs(window[-1][2]).max():.2g} rad/s 2 s later'
+        )
+        # 20 ms without a command, a 50 ms fade into the hold, then braking from 0.2 m/s:
+        # measured 21.5 mm; 2.3x
         assert moved < 0.05, (
             f'end effector moved {moved * 1e3:.0f} mm in the 2 s after the controller died '
             f'(at {v_kill:.3f} m/s)'
         )
-        assert np.abs(window[-1][2]).max() < 0.05, 'not at rest'
+        # damped at 20 /s for ~2 s (e^-40 of the motion): round-off, measured 3e-15 rad/s
+        rest = np.abs(window[-1][2]).max()
+        assert rest < 1e-12, f'not at rest 2 s after the kill ({rest:.2g} rad/s)'
         log = procs.log('bridge')
         assert 'holding (gravity + damping)' in log and 'no effort command for' in log
         assert 'Traceback' not in log

@@ -80,9 +80,20 @@ def test_talos_sways_its_com_with_default_settings(talos_standing):
     robot, c, com, q = _talos(talos_standing, 'daqp')
     errors, failures, drift = _sway(robot, c, com, q, 10.0)
     rms = float(np.sqrt(np.mean(errors**2)))
+    settled = float(np.sqrt(np.mean(errors[int(round(1.0 / DT)):] ** 2)))
+    print(
+        f'kinematic: CoM rms {rms * 1e3:.3f} mm (after 1 s {settled * 1e3:.3f} mm), '
+        f'sole drift {drift * 1e3:.3f} mm, failures {failures}'
+    )
     assert failures == 0
-    assert rms <= 0.015, f'CoM rms error {1000 * rms:.1f} mm'
-    assert drift < 1e-3  # the soles stay where they stand
+    # measured 0.91 mm, nearly all of it in the first second: the reference sets off at
+    # A omega = 0.16 m/s from a robot at rest (6.7 mm apart at 0.1 s); 3x margin
+    assert rms <= 3e-3, f'CoM rms error {1000 * rms:.2f} mm'
+    # then the PD with feed-forward tracks the smooth sway: measured 0.033 mm; 3x margin
+    assert settled <= 1e-4, f'CoM rms error after the first second {1000 * settled:.3f} mm'
+    # the soles stay where they stand: measured 0.13 mm (kinematic integration of the contact
+    # accelerations, which the QP holds at zero up to the feedback); 4x margin
+    assert drift < 5e-4, f'a sole drifted {drift * 1e3:.2f} mm'
 
 
 @pytest.mark.parametrize('solver', ['proxqp', 'osqp'])

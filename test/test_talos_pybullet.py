@@ -100,8 +100,22 @@ def test_talos_sways_its_com_in_pybullet(
             for s, p0 in zip(SOLE_LINKS.values(), soles0)
         )
         base_height = sim.get_world_to_base_transform()[2, 3]
-    rms = float(np.sqrt(np.mean(np.square(errors))))
+    errors = np.asarray(errors)
+    rms = float(np.sqrt(np.mean(errors**2)))
+    settled = float(np.sqrt(np.mean(errors[int(round(1.0 / DT)):] ** 2)))
+    print(
+        f'pybullet: CoM rms {rms * 1e3:.3f} mm (after 1 s {settled * 1e3:.3f} mm), '
+        f'slide {slide * 1e3:.3f} mm, base height {base_height - q[2]:+.4f} m, '
+        f'failures {failures}'
+    )
     assert failures == 0
-    assert rms <= 0.015, f'CoM rms error {1000 * rms:.1f} mm'
+    # measured 0.92 mm, nearly all of it in the first second: the reference sets off at
+    # A omega = 0.16 m/s from a robot at rest; 3x margin
+    assert rms <= 3e-3, f'CoM rms error {1000 * rms:.2f} mm'
+    # then: measured 0.16 mm (PyBullet's contacts and the torque loop add to the kinematic run's
+    # 0.03 mm); 3x margin
+    assert settled <= 5e-4, f'CoM rms error after the first second {1000 * settled:.3f} mm'
+    # measured 0.55 mm (PyBullet's soft contacts let the boxes creep as the load shifts); 3.6x
     assert slide < 2e-3, f'a sole slid {1000 * slide:.1f} mm'
-    assert base_height > q[2] - 0.15  # still standing (its knees bend as the posture drifts)
+    # measured 9.5 cm lower (the knees bend as the posture drifts); 1.6x: a fall drops it ~1 m
+    assert base_height > q[2] - 0.15

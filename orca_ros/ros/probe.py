@@ -32,7 +32,9 @@ class Probe:
 
     ARM_JOINTS = [f'joint_{i}' for i in range(7)]
 
-    def __init__(self, domain: int, controller_ns: str = '/orca_controller', joints=None):
+    def __init__(
+        self, domain: int, controller_ns: str = '/orca_controller', joints=None, relay_from=None
+    ):
         from geometry_msgs.msg import PoseStamped
         from orca_ros.ros.common import COMMAND_QOS
         import rclpy
@@ -83,6 +85,16 @@ class Probe:
         self.pub_command = self.node.create_publisher(
             Float64MultiArray, '/effort_controller/commands', COMMAND_QOS
         )
+        # relay_from (a topic): the probe joins the lockstep loop. The controller sends its
+        # commands there (its command_topic); the probe calls relay_hook() (e.g. to send the
+        # target of the next simulated instant), then forwards the command to the simulator, so
+        # the loop advances only as fast as the probe keeps up
+        self.relay_hook = None
+        self.relay_errors: list = []
+        if relay_from:
+            self.node.create_subscription(
+                Float64MultiArray, relay_from, self._relay, COMMAND_QOS
+            )
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
         self._stop = False
@@ -101,6 +113,15 @@ class Probe:
         m.position = [float(x) for x in q]
         m.velocity = [float(x) for x in v]
         return m
+
+    def _relay(self, m):
+        hook = self.relay_hook
+        if hook is not None:
+            try:
+                hook()
+            except Exception as exc:  # noqa: BLE001 - reported to the test, the loop goes on
+                self.relay_errors.append(exc)
+        self.pub_command.publish(m)
 
     def _spin(self):
         while not self._stop and self.context.ok():
