@@ -39,9 +39,6 @@ class CompiledCycle:
     def __init__(self, controller, plan):
         start = time.perf_counter()
         robot = controller.robot
-        views = fill.data_views(robot.model, robot.data)
-        if views is None:
-            raise RuntimeError("Pinocchio's Data is not laid out as the kernels read it")
         self.python = []  # objects that run their own update, in the reference path's order
         self.lowered = []
         self.in_python: dict[str, str] = {}  # object name -> why it is not lowered
@@ -59,7 +56,30 @@ class CompiledCycle:
         self.plan = plan
         self.assembly = PlanAssembly(plan, controller._problems[0])
         self.problem = controller._problems[0]
-        lay, d, nb = controller.layout, robot.data, controller.layout.nbase
+        self.robot, self.layout = robot, controller.layout
+        self._bind_data()
+        # compile (or load) the kernel for this configuration's types, every object off: the
+        # arrays it writes are rewritten by the first cycle
+        t.tab[:, 1] = 0
+        cycle_kernel.run(self.ws, 1e-3)
+        self.compile_seconds = time.perf_counter() - start
+
+    def _bind_data(self) -> None:
+        """
+        Take the robot's Pinocchio Data (its live arrays) and model (bodies, frames).
+
+        Again whenever the robot replaces them: re-welding locked joints that moved
+        (``RobotModel.set_locked_joint_positions``) makes a new model and Data.
+        """
+        robot, lay, t = self.robot, self.layout, self.tables
+        d, nb = robot.data, lay.nbase
+        views = fill.data_views(robot.model, d)
+        if views is None:
+            raise RuntimeError("Pinocchio's Data is not laid out as the kernels read it")
+        self.data = d
+        t.set_bodies(robot.model)
+        for low in self.lowered:
+            low.rebind_model()
         # the torque map (T, t0): Pinocchio's M and nle themselves without contacts (what
         # layout.update points to every cycle), the layout's own arrays with contacts
         T, t0 = (d.M[nb:], d.nle[nb:]) if lay.n_wrenches == 0 else (lay._T, lay._t0)
@@ -70,11 +90,6 @@ class CompiledCycle:
             com=d.com[0], vcom=d.vcom[0], Jcom=d.Jcom, body=t.body, crec=t.crec,
             **self.assembly.arrays(),
         )
-        # compile (or load) the kernel for this configuration's types, every object off: the
-        # arrays it writes are rewritten by the first cycle
-        t.tab[:, 1] = 0
-        cycle_kernel.run(self.ws, 1e-3)
-        self.compile_seconds = time.perf_counter() - start
 
     def update(self, t: float, dt: float) -> None:
         """
@@ -82,6 +97,8 @@ class CompiledCycle:
 
         What the reference path's object loop, CyclePlan.update and the first level's build do.
         """
+        if self.robot.data is not self.data:
+            self._bind_data()
         for obj in self.python:
             obj.update(t, dt)
         for low in self.lowered:

@@ -83,14 +83,17 @@ class Tables:
         self.par = np.zeros((max(1, len(lowered)), 2))
         self.tmp = np.zeros(64 + n)
         self.crec = np.zeros((max(1, count[fill.COM]), kernels.COM_SIZE))
-        model = robot.model
-        self.body = np.zeros((model.njoints, 4))
+        self.body = np.zeros((robot.model.njoints, 4))
+        self.set_bodies(robot.model)
+        self.next = {'cart': 0, 'joint': 0, 'lims': 0, 'com': 0}
+
+    def set_bodies(self, model) -> None:
+        """Each joint's body [mass, lever] (row 0: the total mass), from the model's inertias."""
         for j in range(1, model.njoints):
             inertia = model.inertias[j]
             self.body[j, 0] = inertia.mass
             self.body[j, 1:] = inertia.lever
         self.body[0, 0] = self.body[1:, 0].sum() or 1.0
-        self.next = {'cart': 0, 'joint': 0, 'lims': 0, 'com': 0}
 
     def take(self, what: str) -> int:
         i = self.next[what]
@@ -132,6 +135,9 @@ class _Lowered:
 
     def refresh(self) -> None:
         """Take what the Python API replaced since the last cycle (nothing by default)."""
+
+    def rebind_model(self) -> None:
+        """Take what this object read from the robot's model (a new one after a re-weld)."""
 
     def set_par(self, value: float) -> None:
         if value != self._par:
@@ -198,6 +204,9 @@ class _Cartesian(_Lowered):
                 support[jm.idx_v: jm.idx_v + jm.nv] = True
         t.tab[self.k, 3] = offset_in(task.E, self.plan.E)
         t.tab[self.k, 4] = frame.parentJoint
+
+    def rebind_model(self) -> None:
+        self._bind_servo()  # the frame's placement on its joint may have changed
 
     @staticmethod
     def lowerable(task, robot) -> str:
