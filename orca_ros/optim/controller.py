@@ -272,7 +272,8 @@ class Controller(TaskRegistryMixin):
         ):  # a configuration cycle: solver workspaces are set up, its solves are not time-bounded
             self._configure()
             deadline = None
-        self.layout.update()
+        if self.compiled_cycle is None or not self.compiled_cycle.owns_layout:
+            self.layout.update()
         if self.compiled_cycle is not None:
             self.compiled_cycle.update(current_time, dt)
         else:

@@ -26,13 +26,24 @@ from __future__ import annotations
 
 import time
 
-from . import cycle_kernel, fill
-from .lowering import lower, Tables
+import numpy as np
+
+from . import contacts as ck, cycle_kernel, fill
+from .lowering import lower, offset_in, Tables
 from .plan_assembly import PlanAssembly
 from .workspace import make_workspace
+from ...common.task_base import ActivationState
+from ...constraint.contact import Contact
+from ...constraint.surface_wrench_contact import SurfaceContact
 from ...utils.logger import get_logger
 
 _LOG = get_logger('compiled')
+_INACTIVE = (ActivationState.INIT, ActivationState.DEACTIVATED)
+_ACTIVATED = ActivationState.ACTIVATED
+
+
+def _has_callbacks(obj) -> bool:
+    return obj._cb_begin is not None or obj._cb_end is not None
 
 
 class CompiledCycle:
@@ -57,12 +68,88 @@ class CompiledCycle:
         self.assembly = PlanAssembly(plan, controller._problems[0])
         self.problem = controller._problems[0]
         self.robot, self.layout = robot, controller.layout
+        self._lower_contacts(controller, plan)
         self._bind_data()
         # compile (or load) the kernel for this configuration's types, every object off: the
         # arrays it writes are rewritten by the first cycle
         t.tab[:, 1] = 0
         cycle_kernel.run(self.ws, 1e-3)
+        if self.owns_layout:
+            self.ct_tab[:, 3] = 0
+            self.dyn[1] = 0
+            cycle_kernel.run_contacts(self.ws, 1e-3)
         self.compile_seconds = time.perf_counter() - start
+
+    def _lower_contacts(self, controller, plan) -> None:
+        """
+        Take the contacts' kinematics (and the torque map, the dynamics rows) into the kernel.
+
+        When every contact is a point or surface contact without compute callbacks; their own
+        rows (cones, normal force bounds) stay in Python. Otherwise ProblemLayout.update and the
+        existence conditions run in Python as on the reference path.
+        """
+        lay, dyn = controller.layout, controller.dynamics_constraint
+        contacts = list(lay.contacts)
+        self.contacts, self.owns_layout = [], False
+        n = len(contacts)
+        self.ct_tab = np.zeros((max(1, n), 5), dtype=np.int64)
+        self.ct_par = np.zeros((max(1, n), ck.CT_PAR))
+        self.ct_sup = np.zeros((max(1, n), lay.nv), dtype=np.bool_)
+        self.dyn = np.array([-1, 0], dtype=np.int64)
+        self.Wj = lay.wrench_jacobian if n else np.zeros((0, lay.nv))
+        if not n or _has_callbacks(dyn) or any(
+            type(c) not in (Contact, SurfaceContact)
+            or _has_callbacks(c)
+            or _has_callbacks(c.existence)
+            for c in contacts
+        ):
+            return
+        model = self.robot.model
+        for i, c in enumerate(contacts):
+            frame = model.frames[c._fid]
+            self.ct_tab[i] = [frame.parentJoint, c.existence_rows,
+                              offset_in(c.existence.C, plan.M), 0, isinstance(c, SurfaceContact)]
+            par = self.ct_par[i]
+            par[ck.CT_R: ck.CT_R + 9] = frame.placement.rotation.reshape(-1)
+            par[ck.CT_P: ck.CT_P + 3] = frame.placement.translation
+            offset = getattr(c, 'offset', None)
+            if offset is not None:
+                par[ck.CT_OFF: ck.CT_OFF + 3] = offset
+            for j in model.supports[frame.parentJoint]:
+                if j > 0:
+                    jm = model.joints[j]
+                    self.ct_sup[i, jm.idx_v: jm.idx_v + jm.nv] = True
+        if dyn.rows():
+            self.dyn[0] = offset_in(dyn.C, plan.M)
+        inside = {id(c.existence) for c in contacts} | {id(dyn)}
+        self.python = [o for o in self.python if id(o) not in inside]
+        self.contact_objects = [o for o in self.python if id(o) in {id(c) for c in contacts}]
+        self.python = [o for o in self.python if o not in self.contact_objects]
+        for c in contacts:
+            self.in_python.pop(c.existence.name, None)
+            self.in_python[c.name] = 'its cone and normal force bound (its kinematics by kernel)'
+        self.in_python.pop(dyn.name, None)
+        self.contacts, self.dynamics, self.owns_layout = contacts, dyn, True
+        lay.T, lay.t0 = lay._T, lay._t0
+
+    def _contacts(self, t: float, dt: float) -> None:
+        """Run the contacts' own updates, mirror their existence conditions, then the kernel."""
+        for c in self.contact_objects:
+            c.update(t, dt)
+        tab, par = self.ct_tab, self.ct_par
+        for i, c in enumerate(self.contacts):
+            on = c.state not in _INACTIVE
+            ex = c.existence
+            ex.state, ex._ramp_factor = c.state, c._ramp_factor  # it mirrors its contact
+            tab[i, 3] = on
+            par[i, ck.CT_GAIN] = c.velocity_gain
+            if not tab[i, 4]:
+                par[i, ck.CT_N: ck.CT_N + 3] = c.normal
+        dyn = self.dynamics
+        if dyn.state is not _ACTIVATED and dyn.state not in _INACTIVE:
+            dyn._step_ramp(t)
+        self.dyn[1] = dyn.state not in _INACTIVE
+        cycle_kernel.run_contacts(self.ws, dt)
 
     def _bind_data(self) -> None:
         """
@@ -88,7 +175,8 @@ class CompiledCycle:
             v_pin=robot._v_pin, T=T, t0=t0, cart=t.cart, cart_sup=t.cart_sup, jrec=t.jrec,
             lims=t.lims, pacc=t.pacc, tab=t.tab, par=t.par, tmp=t.tmp,
             com=d.com[0], vcom=d.vcom[0], Jcom=d.Jcom, body=t.body, crec=t.crec,
-            **self.assembly.arrays(),
+            M_pin=d.M, nle=d.nle, Wj=self.Wj, ct_tab=self.ct_tab, ct_par=self.ct_par,
+            ct_sup=self.ct_sup, dyn=self.dyn, **self.assembly.arrays(),
         )
 
     def update(self, t: float, dt: float) -> None:
@@ -99,6 +187,9 @@ class CompiledCycle:
         """
         if self.robot.data is not self.data:
             self._bind_data()
+        if self.owns_layout:
+            self.robot._update_terms()  # computeAllTerms (ProblemLayout.update's, on that path)
+            self._contacts(t, dt)
         for obj in self.python:
             obj.update(t, dt)
         for low in self.lowered:

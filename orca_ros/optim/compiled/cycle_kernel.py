@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 
 from .assembly import assemble
+from .contacts import contact_terms
 from .fill import fill
 from ...utils.jit import njit
 
@@ -44,3 +45,11 @@ def run(ws, dt):
     if not math.isfinite(s):
         flags |= 2
     return flags
+
+
+@njit
+def run_contacts(ws, dt):
+    """Compute the contacts' kinematics, the torque map and the dynamics rows (first)."""
+    return contact_terms(ws.oMi, ws.vj, ws.aj, ws.J, ws.ct_sup, ws.M_pin, ws.nle, ws.Wj, ws.T,
+                         ws.t0, ws.M, ws.lo, ws.hi, ws.nx, ws.ct_tab, ws.ct_par, ws.dyn[0],
+                         ws.dyn[1], dt, ws.tmp)

@@ -38,6 +38,9 @@ FIELDS = (
     # the centre of mass (Data's com[0], vcom[0], Jcom), the bodies' [mass, lever] (row 0: the
     # total mass) and the CoM tasks' records
     'com', 'vcom', 'Jcom', 'body', 'crec',
+    # the contacts (compiled/contacts.py): Pinocchio's M and nle, the wrench Jacobians, the
+    # contacts' table and parameters, the dynamics rows [first row in M, on]
+    'M_pin', 'nle', 'Wj', 'ct_tab', 'ct_par', 'ct_sup', 'dyn',
     # sizes: nx, n_eq, level 0's dense rows and diagonal tasks, soft boxes, first joint, joints
     'nx', 'ne', 'n0', 'nd0', 'nsoft', 'jb', 'nj',
 )
