@@ -157,8 +157,8 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     print(f'infeasible problems, {args.cycles} cycles each; times in microseconds')
     print(
-        f'{"problem":<12}{"solver":>8}{"failed":>8}{"upd med":>9}{"upd max":>9}{"+fallbk":>9}'
-        f'{"budget":>8}{"over":>6}{"fallback ok":>13}  return codes'
+        f"{'problem':<12}{'solver':>8}{'failed':>8}{'upd med':>9}{'upd max':>9}{'+fallbk':>9}"
+        f"{'budget':>8}{'over':>6}{'fallback ok':>13}  return codes"
     )
     worst = 0.0
     for kind in ('arm_limits', 'equalities', 'wrench'):
@@ -167,10 +167,10 @@ def main(argv=None) -> int:
             worst = max(worst, r['update_max_us'])
             codes = ', '.join(f'{k} x{v}' for k, v in sorted(r['codes'].items()))
             print(
-                f'{kind:<12}{solver:>8}{r["failures"]:>8}{r["update_median_us"]:>9.1f}'
-                f'{r["update_max_us"]:>9.1f}'
-                f'{r["total_max_us"]:>9.1f}{r["budget_us"]:>8.0f}{r["over_budget"]:>6}'
-                f'{str(r["fallback_ok"]):>13}  {codes}'
+                f"{kind:<12}{solver:>8}{r['failures']:>8}{r['update_median_us']:>9.1f}"
+                f"{r['update_max_us']:>9.1f}"
+                f"{r['total_max_us']:>9.1f}{r['budget_us']:>8.0f}{r['over_budget']:>6}"
+                f"{str(r['fallback_ok']):>13}  {codes}"
             )
     print(f'maximum update() time over every cycle: {worst:.1f} us')
     return 0

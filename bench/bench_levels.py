@@ -103,7 +103,7 @@ def main(argv=None) -> int:
                 results.setdefault((strategy, n, solver), []).append(
                     run(strategy, solver, n, args.cycles, prio)
                 )
-    print(f'{"strategy":<22}{"levels":>7}{"solver":>8}{"median":>9}{"p99":>9}{"held":>6}')
+    print(f"{'strategy':<22}{'levels':>7}{'solver':>8}{'median':>9}{'p99':>9}{'held':>6}")
     med = {}
     for (strategy, n, solver), runs in results.items():
         med[(strategy, n, solver)] = float(np.median([r[0] for r in runs]))

@@ -97,14 +97,14 @@ def main(argv=None) -> int:
         f'1 s), {args.seconds:g} s per row; throughput, not real time (bench/bench_node_soak.py)'
     )
     print(
-        f'{"sim period ms":>14}{"steps/s":>10}{"step med ms":>13}{"step p99 ms":>13}'
-        f'{"sim/wall":>10}'
+        f"{'sim period ms':>14}{'steps/s':>10}{'step med ms':>13}{'step p99 ms':>13}"
+        f"{'sim/wall':>10}"
     )
     for rate in (500.0, 1000.0):
         r = run(rate, args.seconds)
         print(
-            f'{1e3 / rate:>14.0f}{r["steps_per_s"]:>10.0f}{r["step_median_ms"]:>13.3f}'
-            f'{r["step_p99_ms"]:>13.3f}{r["sim_per_wall"]:>10.2f}'
+            f"{1e3 / rate:>14.0f}{r['steps_per_s']:>10.0f}{r['step_median_ms']:>13.3f}"
+            f"{r['step_p99_ms']:>13.3f}{r['sim_per_wall']:>10.2f}"
         )
     return 0
 

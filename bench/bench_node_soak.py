@@ -211,31 +211,31 @@ def main(argv=None) -> int:
     print(
         f'bridge + controller at {args.rate:.0f} Hz for {args.minutes:g} min (after '
         f'{args.warmup:g} s warm-up), '
-        f'{r["windows"]} windows of 10 s'
+        f"{r['windows']} windows of 10 s"
     )
-    print(f'achieved rate {r["rate_hz"]:.1f} Hz; controller alive at the end: {r["alive"]}')
+    print(f"achieved rate {r['rate_hz']:.1f} Hz; controller alive at the end: {r['alive']}")
     print(
-        f'solver {r["solver"]}, budget {r["budget"]}; solve time (last window) median '
-        f'{r["solve_median_us"]:.1f} us, p99 {r["solve_p99_us"]:.1f} us; after warm-up: '
-        f'{r["qp_failures"]} QP failures, {r["dropped_levels"]} dropped levels'
+        f"solver {r['solver']}, budget {r['budget']}; solve time (last window) median "
+        f"{r['solve_median_us']:.1f} us, p99 {r['solve_p99_us']:.1f} us; after warm-up: "
+        f"{r['qp_failures']} QP failures, {r['dropped_levels']} dropped levels"
     )
     print(
-        f'RSS after warm-up {r["rss_after_warmup_kb"]} kB, at the end {r["rss_end_kb"]} kB: '
+        f"RSS after warm-up {r['rss_after_warmup_kb']} kB, at the end {r['rss_end_kb']} kB: "
         'growth '
-        f'{r["rss_growth_kb"]} kB (max {r["rss_max_growth_kb"]} kB; target <= 100)'
+        f"{r['rss_growth_kb']} kB (max {r['rss_max_growth_kb']} kB; target <= 100)"
     )
     print(
-        f'control period (median of windows): mean {r["period_mean_ms"]:.3f} ms, p99 '
-        f'{r["p99_ms"]:.3f} ms '
-        f'(target <= 1.5), p99.9 {r["p999_ms"]:.3f} ms (target <= 3)'
+        f"control period (median of windows): mean {r['period_mean_ms']:.3f} ms, p99 "
+        f"{r['p99_ms']:.3f} ms "
+        f"(target <= 1.5), p99.9 {r['p999_ms']:.3f} ms (target <= 3)"
     )
     print(
         'RSS every 10 s (kB above the reference):',
         ' '.join(str(x - r['rss_after_warmup_kb']) for x in r['rss_trace']),
     )
     print(
-        f'worst window: p99 {r["worst_p99_ms"]:.3f} ms, p99.9 {r["worst_p999_ms"]:.3f} ms, max '
-        f'{r["max_ms"]:.3f} ms'
+        f"worst window: p99 {r['worst_p99_ms']:.3f} ms, p99.9 {r['worst_p999_ms']:.3f} ms, max "
+        f"{r['max_ms']:.3f} ms"
     )
     return 0
 

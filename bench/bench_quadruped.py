@@ -91,7 +91,7 @@ def main(argv=None) -> int:
         '(microseconds)'
     )
     print(
-        f'{"solver":<9}{"median":>9}{"p99":>9}{"floor med":>11}{"floor p99":>11}'
+        f"{'solver':<9}{'median':>9}{'p99':>9}{'floor med':>11}{'floor p99':>11}"
         '  failed cycles (first ones)'
     )
     for solver in ('daqp', 'proxqp', 'osqp'):

@@ -84,22 +84,22 @@ def main(argv=None) -> int:
         "DAQP's floor"
     )
     print(
-        f'{"scenario":<11}{"size":<14}{"solver":<8}{"solve":>8}{"p99":>8}{"floor":>8}{"p99":>8}'
-        f'{"x DAQP":>8}{"iter":>7}{"fails":>6}{"max dev":>10}'
+        f"{'scenario':<11}{'size':<14}{'solver':<8}{'solve':>8}{'p99':>8}{'floor':>8}{'p99':>8}"
+        f"{'x DAQP':>8}{'iter':>7}{'fails':>6}{'max dev':>10}"
     )
     for sc in args.scenarios:
         o = res[(sc, args.solvers[0])][0]
-        size = f'{o["nvar"]}x({o["neq"]}+{o["nin"]})'
+        size = f"{o['nvar']}x({o['neq']}+{o['nin']})"
         ref = med(sc, 'daqp', 'median_us') if (sc, 'daqp') in res else float('nan')
         for s in args.solvers:
             outs = res[(sc, s)]
             fl = med(sc, s, 'median_us')
             print(
-                f'{sc:<11}{size:<14}{s:<8}{med(sc, s, "solve_median_us"):>8.1f}'
-                f'{med(sc, s, "solve_p99_us"):>8.1f}{fl:>8.1f}{med(sc, s, "p99_us"):>8.1f}'
-                f'{fl / ref:>8.2f}{med(sc, s, "iterations_mean"):>7.1f}'
-                f'{sum(x["failures"] for x in outs):>6}'
-                f'{max(x["max_rel_dev"] for x in outs):>10.1e}'
+                f"{sc:<11}{size:<14}{s:<8}{med(sc, s, 'solve_median_us'):>8.1f}"
+                f"{med(sc, s, 'solve_p99_us'):>8.1f}{fl:>8.1f}{med(sc, s, 'p99_us'):>8.1f}"
+                f"{fl / ref:>8.2f}{med(sc, s, 'iterations_mean'):>7.1f}"
+                f"{sum(x['failures'] for x in outs):>6}"
+                f"{max(x['max_rel_dev'] for x in outs):>10.1e}"
             )
     return 0
 

@@ -69,7 +69,7 @@ def main(argv=None) -> int:
     ap.add_argument('--rounds', type=int, default=5)
     ap.add_argument('--scenarios', nargs='+', default=['panda', 'quadruped', 'talos'])
     args = ap.parse_args(argv)
-    print(f'{"scenario":10s} {"import":>8s} {"cold":>8s} {"warm":>8s} {"reference":>10s}  [s]')
+    print(f"{'scenario':10s} {'import':>8s} {'cold':>8s} {'warm':>8s} {'reference':>10s}  [s]")
     with tempfile.TemporaryDirectory() as root:
         for name in args.scenarios:
             cache = os.path.join(root, name)

@@ -86,7 +86,7 @@ def main(argv=None) -> int:
     for s in args.solvers:
         impls.append(
             (
-                f'orca_{s or "default"}',
+                f"orca_{s or 'default'}",
                 [sys.executable, 'run_orca.py'] + ([] if s is None else ['--solver', s]),
             )
         )
@@ -107,7 +107,7 @@ def main(argv=None) -> int:
         "QP (* the default solver's: the floor)"
     )
     print(
-        f'{"scenario":<10}{"impl":<14}{"median":>9}{"p99":>9}{"ratio":>8}{"failures":>10}  final '
+        f"{'scenario':<10}{'impl':<14}{'median':>9}{'p99':>9}{'ratio':>8}{'failures':>10}  final "
         'task error (m)'
     )
     for sc in args.scenarios:

@@ -111,8 +111,8 @@ def main(argv=None) -> int:
         "computeAllTerms + the row's solver on the same QPs"
     )
     print(
-        f'{"scenario":<20}{"solver":<9}{"median":>9}{"p99":>9}{"misses":>8}{"floor med":>11}'
-        f'{"floor p99":>11}'
+        f"{'scenario':<20}{'solver':<9}{'median':>9}{'p99':>9}{'misses':>8}{'floor med':>11}"
+        f"{'floor p99':>11}"
     )
     for moving, name in ((False, 'simple_controller'), (True, 'closed_loop')):
         for solver in ('daqp', 'proxqp', 'osqp'):

@@ -188,8 +188,8 @@ def main(argv=None) -> int:
     )
     for key, us in res.items():
         print(f'  {key:<64}{us:8.2f}')
-    print(f'  {"(sum: state input + update() with the wrappers)":<64}{sum(res.values()):8.2f}')
-    print(f'  {"= state input + update(), without the wrappers":<64}{plain:8.2f}')
+    print(f"  {'(sum: state input + update() with the wrappers)':<64}{sum(res.values()):8.2f}")
+    print(f"  {'= state input + update(), without the wrappers':<64}{plain:8.2f}")
     print(
         f"  solver iterations per cycle (mean) {iters:.2f}; the two controllers' solutions "
         f'differ by at most {dev:.1e}'

@@ -42,7 +42,7 @@ def share_path(*parts: str) -> str:
         if os.path.exists(c):
             return c
     raise FileNotFoundError(
-        f'shipped file {"/".join(parts)} not found (looked in: {", ".join(candidates)})'
+        f"shipped file {'/'.join(parts)} not found (looked in: {', '.join(candidates)})"
     )
 
 

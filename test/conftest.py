@@ -88,7 +88,7 @@ def pytest_sessionfinish(session, exitstatus):
 def pytest_terminal_summary(terminalreporter):
     for group, (reason, files) in _SKIPPED_GROUPS.items():
         terminalreporter.write_line(
-            f'SKIPPED {len(files)} test files ({", ".join(sorted(files))}): {reason}',
+            f"SKIPPED {len(files)} test files ({', '.join(sorted(files))}): {reason}",
             yellow=True,
         )
     if _SKIPPED_GROUPS and _ci():

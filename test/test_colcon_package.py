@@ -104,7 +104,7 @@ def test_node_starts_as_the_readme_runs_it(workspace, tmp_path):
     run = ' '.join(shlex.quote(a) for a in route['ros2'][2:])
     log = open(tmp_path / 'node.log', 'w')
     p = subprocess.Popen(
-        ['bash', '-c', f'{setup} && exec {sys.executable} {tmp_path / "ros2_run.py"} {run}'],
+        ['bash', '-c', f"{setup} && exec {sys.executable} {tmp_path / 'ros2_run.py'} {run}"],
         env=env,
         stdout=log,
         stderr=subprocess.STDOUT,

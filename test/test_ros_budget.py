@@ -114,4 +114,4 @@ def test_timer_loop_keeps_its_period_and_its_fallback_under_a_failing_qp(tmp_pat
     )
     print(f'\n{cycles} cycles in {wall:.2f} s ({lost / wall:.1%} lost), {work * 1e3:.3f} ms CPU '
           f'per cycle, {waited:.3f} s waiting for a CPU; loop period mean '
-          f'{d1["loop_period_mean_ms"]} ms, solve median {d1["solve_time_median_us"]} us')
+          f"{d1['loop_period_mean_ms']} ms, solve median {d1['solve_time_median_us']} us")

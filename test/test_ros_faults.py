@@ -54,7 +54,9 @@ def _arm_on_a_pedestal(path):
     root = (
         '<link name="pedestal"/>\n  <joint name="pedestal_joint" type="fixed">'
         '<parent link="pedestal"/><child link="base_link"/>'
-        f'<origin xyz="{" ".join(map(str, PEDESTAL_XYZ))}" rpy="0 0 {PEDESTAL_YAW}"/></joint>\n  '
+        '<origin xyz="'
+        + ' '.join(map(str, PEDESTAL_XYZ))
+        + f'" rpy="0 0 {PEDESTAL_YAW}"/></joint>\n  '
     )
     i = text.index('<link name="base_link">')
     path.write_text(text[:i] + root + text[i:])

@@ -35,7 +35,7 @@ def set_params(probe, atomically=False, **values):
     ]
     res = probe.call(
         srv,
-        f'/orca_controller/{"set_parameters_atomically" if atomically else "set_parameters"}',
+        f"/orca_controller/{'set_parameters_atomically' if atomically else 'set_parameters'}",
         req,
     )
     return [res.result] if atomically else res.results

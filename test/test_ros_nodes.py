@@ -88,7 +88,10 @@ def test_reset_targets_holds_current_pose(system):
     # the probe saw the arm move; from the trajectory's 0.25 m/s cruise the PD (20 /s, critically
     # damped) would stop within v / (20 e) = 4.6 mm
     assert braked < 5e-3, f'{braked * 1e3:.1f} mm from where the targets were reset'
-    assert short > 0.25  # of the abandoned 27 cm move, the arm did a few mm (264 mm short)
+    # and did not go on to the abandoned target, 269 mm away: how far it got before the reset
+    # depends on the probe's wall-clock latency while the lockstep pair runs flat out (measured
+    # 5-27 mm, the latter under Python 3.12's slower start); braked above is the precise check
+    assert short > 0.2, f'{short * 1e3:.0f} mm short of the abandoned target'
     # at rest: measured 2.6e-7 - 9.1e-7 rad/s (the posture's 5 /s mode 1.5 s after the reset),
     # in proportion to the speed at the reset, which depends on when it lands; 11x, for a reset
     # up to the cruise speed

@@ -92,7 +92,7 @@ def test_every_imported_module_has_a_rosdep_key_or_the_pip_line():
     keyless = {m for m, k in KEY_OF_MODULE.items() if k == 'pip'}
     assert pip_names == keyless
     for spec in route['pip'][2:]:
-        assert spec == PIP[spec.split('==')[0]], f'{spec}: pinned as {PIP[spec.split("==")[0]]}'
+        assert spec == PIP[spec.split('==')[0]], f"{spec}: pinned as {PIP[spec.split('==')[0]]}"
 
 
 def test_rosdep_line_installs_from_the_workspace_sources():

@@ -51,16 +51,16 @@ def main(argv=None) -> int:
     trq_margin = float(np.min(res['tau_max'] - np.abs(res['tau'])))
     print('=== orca_ros demo: 7-DoF arm, Cartesian target, closed loop ===')
     print(
-        f'target {np.round(res["target"][:3, 3], 4)} m, final error '
-        f'{res["final_position_error"] * 1e3:.4f} mm '
-        f'/ {res["final_orientation_error"]:.2e} rad'
+        f"target {np.round(res['target'][:3, 3], 4)} m, final error "
+        f"{res['final_position_error'] * 1e3:.4f} mm "
+        f"/ {res['final_orientation_error']:.2e} rad"
     )
     print(f'settle time (error < 1 mm for good): {settle_time:.3f} s')
     print(
         f'limit margins: position {pos_margin:.4f} rad, velocity {vel_margin:.4f} rad/s, torque '
         f'{trq_margin:.3f} Nm'
     )
-    print(f'simulated {res["t"][-1] + 0.001:.1f} s in {wall:.2f} s wall time')
+    print(f"simulated {res['t'][-1] + 0.001:.1f} s in {wall:.2f} s wall time")
 
     import matplotlib
 

@@ -106,7 +106,7 @@ def main(argv=None) -> int:
 
     args = parse_args(__doc__, argv, extra)
     res = run(args.urdf, args.solver, output=args.output, show=args.show)
-    print(f'wrote {res["output"]} ({len(res["times"])} samples)')
+    print(f"wrote {res['output']} ({len(res['times'])} samples)")
     return 0 if os.path.isfile(res['output']) and np.all(np.isfinite(res['torques'])) else 1
 
 

@@ -84,9 +84,9 @@ def main(argv=None) -> int:
     args = parse_sim_args(__doc__, argv)
     res = run(args.urdf, max(args.duration, 4.0), args.gui)
     print(
-        f'{res["legs"]} trajectory legs; tracking error in PyBullet: max '
-        f'{res["max_error"] * 1e3:.2f} mm, '
-        f'rms {res["rms_error"] * 1e3:.2f} mm'
+        f"{res['legs']} trajectory legs; tracking error in PyBullet: max "
+        f"{res['max_error'] * 1e3:.2f} mm, "
+        f"rms {res['rms_error'] * 1e3:.2f} mm"
     )
     return 0 if res['max_error'] < 5e-3 and res['legs'] >= 1 else 1
 

@@ -69,10 +69,10 @@ def run(urdf: str, duration: float = 1.0, gui: bool = False):
 def main(argv=None) -> int:
     args = parse_sim_args(__doc__, argv)
     res = run(args.urdf, args.duration, args.gui)
-    print(f'configurations set: {res["set_ok"]}; bases at {res["bases"][0]} and {res["bases"][1]}')
+    print(f"configurations set: {res['set_ok']}; bases at {res['bases'][0]} and {res['bases'][1]}")
     print(
-        f'held arm moved {res["left_moved"]:.2e} rad, unpowered arm moved '
-        f'{res["right_moved"]:.2f} rad'
+        f"held arm moved {res['left_moved']:.2e} rad, unpowered arm moved "
+        f"{res['right_moved']:.2f} rad"
     )
     return 0 if res['set_ok'] and res['left_moved'] < 1e-6 and res['right_moved'] > 0.05 else 1
 

@@ -81,7 +81,7 @@ def main(argv=None) -> int:
     args = parse_args(__doc__, argv)
     res = run(args.urdf, args.solver)
     with np.printoptions(precision=4, suppress=True):
-        print(f'solved {res["solved"]}/{res["cycles"]} cycles')
+        print(f"solved {res['solved']}/{res['cycles']} cycles")
         print('Full solution              :', res['full_solution'])
         print('Joint acceleration command :', res['acceleration'])
         print('Joint torque command       :', res['torque'])

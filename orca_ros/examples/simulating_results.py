@@ -147,12 +147,12 @@ def main(argv=None) -> int:
     )
     res = run(args.urdf, args.solver, duration=args.duration, time_budget=args.time_budget)
     print(
-        f'target {np.round(res["target"][:3, 3], 4)}; final link_7 position '
-        f'{np.round(res["final_pose"][:3, 3], 5)}'
+        f"target {np.round(res['target'][:3, 3], 4)}; final link_7 position "
+        f"{np.round(res['final_pose'][:3, 3], 5)}"
     )
     print(
-        f'final position error {res["final_position_error"] * 1e3:.4f} mm, '
-        f'orientation error {res["final_orientation_error"]:.2e} rad'
+        f"final position error {res['final_position_error'] * 1e3:.4f} mm, "
+        f"orientation error {res['final_orientation_error']:.2e} rad"
     )
     return 0 if res['ok'] and res['final_position_error'] < 1e-3 else 1
 

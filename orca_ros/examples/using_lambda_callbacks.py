@@ -84,7 +84,7 @@ def run(urdf: str, solver: str = 'daqp', duration: float = 5.0, loops: int = 4, 
                 end_position if forward else other_position,
                 other_position if forward else end_position,
             )
-            print(f'Changing trajectory direction ({ctx["loops"]}/{loops}).')
+            print(f"Changing trajectory direction ({ctx['loops']}/{loops}).")
 
     cart_task.on_compute_end_callback(on_end)
     cart_task.on_deactivation_callback(lambda: print('Deactivating task.'))
@@ -128,8 +128,8 @@ def main(argv=None) -> int:
     )
     res = run(args.urdf, args.solver, duration=args.duration)
     print(
-        f'{res["loops"]} trajectory segments in {res["time"]:.2f} s; tracking error '
-        f'max {res["max_tracking_error"] * 1e3:.4f} mm, rms {res["rms_tracking_error"] * 1e3:.4f} '
+        f"{res['loops']} trajectory segments in {res['time']:.2f} s; tracking error "
+        f"max {res['max_tracking_error'] * 1e3:.4f} mm, rms {res['rms_tracking_error'] * 1e3:.4f} "
         'mm'
     )
     return 0 if res['ok'] and res['max_tracking_error'] < 1e-3 else 1

@@ -36,5 +36,5 @@ class ResolutionStrategy(Enum):
                 return s
         raise ValueError(
             f"unknown resolution strategy '{name}' (expected one of: "
-            f'{", ".join(s.value for s in cls)})'
+            f"{', '.join(s.value for s in cls)})"
         )

@@ -100,13 +100,13 @@ def report(run, margin: float = 0.02) -> list[str]:
         )
     if run.error.size:
         e = np.linalg.norm(run.error[:, :3], axis=1)
-        lines.append(f'tracking error (position): final {_fmt(e[-1] * 1e3, "mm")}, '
-                     f'max {_fmt(e.max() * 1e3, "mm")}')
+        lines.append(f"tracking error (position): final {_fmt(e[-1] * 1e3, 'mm')}, "
+                     f"max {_fmt(e.max() * 1e3, 'mm')}")
     if run.solve_time.size:
         s = run.solve_time * 1e6
         lines.append(
-            f'solve time per cycle: median {_fmt(np.median(s), "us")}, p99 '
-            f'{_fmt(np.percentile(s, 99), "us")}, max {_fmt(s.max(), "us")} '
+            f"solve time per cycle: median {_fmt(np.median(s), 'us')}, p99 "
+            f"{_fmt(np.percentile(s, 99), 'us')}, max {_fmt(s.max(), 'us')} "
             f'({s.size} cycles)'
         )
     limits = joint_limits(run)

@@ -113,13 +113,13 @@ class ControllerDiagnostics:
             'update_rate_hz': f'{self.update_rate:g}',
             'trigger': self.trigger,
             'joints': ','.join(self.setup.joints),
-            'solve_time_median_us': f'{stats["solve_median_us"]:.1f}',
-            'solve_time_p99_us': f'{stats["solve_p99_us"]:.1f}',
-            'loop_period_mean_ms': f'{stats["period_mean_ms"]:.3f}',
-            'loop_period_p99_ms': f'{stats["period_p99_ms"]:.3f}',
-            'loop_period_p999_ms': f'{stats["period_p999_ms"]:.3f}',
-            'loop_period_max_ms': f'{stats["period_max_ms"]:.3f}',
-            'loop_jitter_p99_ms': f'{stats["jitter_p99_ms"]:.3f}',
+            'solve_time_median_us': f"{stats['solve_median_us']:.1f}",
+            'solve_time_p99_us': f"{stats['solve_p99_us']:.1f}",
+            'loop_period_mean_ms': f"{stats['period_mean_ms']:.3f}",
+            'loop_period_p99_ms': f"{stats['period_p99_ms']:.3f}",
+            'loop_period_p999_ms': f"{stats['period_p999_ms']:.3f}",
+            'loop_period_max_ms': f"{stats['period_max_ms']:.3f}",
+            'loop_jitter_p99_ms': f"{stats['jitter_p99_ms']:.3f}",
             'cycles': str(stats['cycles']),
             'qp_failures': str(fails),
             'contacts_relaxed_cycles': str(self.contacts_relaxed_cycles),
@@ -147,7 +147,7 @@ class ControllerDiagnostics:
     def _budget_text(self) -> str:
         budget, cap = self.controller.get_solver_budget()
         when = 'one period' if budget is None else f'{budget * 1e3:g} ms'
-        return f'{when}, {"default" if cap is None else cap} iterations'
+        return f"{when}, {'default' if cap is None else cap} iterations"
 
 
 def _rss_kb() -> int:

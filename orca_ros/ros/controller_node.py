@@ -194,7 +194,7 @@ class OrcaControllerNode(
         self.setup_live_parameters()
         self.get_logger().info(
             f'orca_controller: {self.n} joints'
-            f'{f" (locked: {self._locked})" if self._locked else ""}, '
+            f"{f' (locked: {self._locked})' if self._locked else ''}, "
             f'{self.update_rate:.0f} Hz ({self.trigger}), solver '
             f'{self.controller.solver.value}, tasks {list(setup.tasks)}'
         )

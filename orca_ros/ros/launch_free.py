@@ -114,7 +114,7 @@ class Procs:
             '--params-file',
             orca.share_path('config', 'lwr_controller.yaml'),
             '-p',
-            f'trigger:={"joint_state" if mode == "lockstep" else "timer"}',
+            f"trigger:={'joint_state' if mode == 'lockstep' else 'timer'}",
             *ros_args,
             name='controller',
             prefix=prefix,

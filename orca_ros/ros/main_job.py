@@ -92,7 +92,7 @@ def _launch_robot(procs, args, mode: str) -> None:
         mode,
         bridge_args=(
             '-p',
-            f'gui:={"true" if args.gui else "false"}',
+            f"gui:={'true' if args.gui else 'false'}",
             '-p',
             'start_paused:=true',  # until the recorder hears both sides
         ),
@@ -133,7 +133,7 @@ def main(argv=None) -> int:
     procs.start(
         'orca_ros.ros.bag_recorder',
         '-p', f'output:={bag}',
-        '-p', f'use_sim_time:={"false" if args.realtime else "true"}',
+        '-p', f"use_sim_time:={'false' if args.realtime else 'true'}",
         '-p', f"confirm_topics:=['{TARGET_TOPIC}']",  # receipts of the targets (see _in_bag)
         name='recorder',
     )
@@ -200,26 +200,26 @@ def main(argv=None) -> int:
     path = np.array([probe.ee_pose(qi)[:3, 3] for qi in q[::20]])
     print(
         '=== orca_ros main job: 7-DoF arm through ROS 2 (pybullet_bridge + orca_controller, '
-        f'{"real time" if args.realtime else "lockstep"}) ==='
+        f"{'real time' if args.realtime else 'lockstep'}) ==="
     )
-    print(f'{"step":<28}{"target [m]":<28}{"final error":>13}{"settle time":>13}')
+    print(f"{'step':<28}{'target [m]':<28}{'final error':>13}{'settle time':>13}")
     for name, p, err, settle in rows:
         reached = err < args.tolerance
         ok &= reached
         where = ' '.join(f'{round(x, 3) + 0.0:+.3f}' for x in p)  # no '-0.000'
         print(
             f'{name:<28}{where:<28}{err * 1e3:>10.3f} mm{settle:>11.2f} s'
-            f'{"" if reached else "   NOT REACHED"}'
+            f"{'' if reached else '   NOT REACHED'}"
         )
     print(
-        f'solve time: median {diag.get("solve_time_median_us", "?")} us, p99 '
-        f'{diag.get("solve_time_p99_us", "?")} us'
-        f' ({diag.get("solver", "?")}); solver status {diag.get("solver_status", "?")}'
+        f"solve time: median {diag.get('solve_time_median_us', '?')} us, p99 "
+        f"{diag.get('solve_time_p99_us', '?')} us"
+        f" ({diag.get('solver', '?')}); solver status {diag.get('solver_status', '?')}"
     )
     if args.realtime:
         print(
-            f'control loop: mean period {diag.get("loop_period_mean_ms", "?")} ms '
-            f'(nominal 1 ms), p99 {diag.get("loop_period_p99_ms", "?")} ms'
+            f"control loop: mean period {diag.get('loop_period_mean_ms', '?')} ms "
+            f"(nominal 1 ms), p99 {diag.get('loop_period_p99_ms', '?')} ms"
         )
     else:
         print(
@@ -233,7 +233,7 @@ def main(argv=None) -> int:
     run = read_run(bag)
     for line in report(run)[1:]:
         print(line)
-    print(f'recorded: {bag} ({", ".join(f"{k} {n}" for k, n in sorted(run.counts.items()))})')
+    print(f"recorded: {bag} ({', '.join(f'{k} {n}' for k, n in sorted(run.counts.items()))})")
     print(f'node logs: {logs}')
     p1 = plot_run(run, os.path.join(args.output_dir, 'main_job_run.png'))
     import matplotlib.pyplot as plt  # noqa: PLC0415 (plot_run chose the backend)

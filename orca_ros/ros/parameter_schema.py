@@ -278,7 +278,7 @@ def markdown() -> str:
             else ('' if s.kind in ('bool', 'str', 'strs') else f'[{s.low:g}, {s.high:g}]')
         )
         rows.append(
-            f'| `{s.name}` | {s.kind} | {rng} | {"live" if s.live else "read-only"} | {s.doc} |'
+            f"| `{s.name}` | {s.kind} | {rng} | {'live' if s.live else 'read-only'} | {s.doc} |"
         )
     return '\n'.join(rows)
 

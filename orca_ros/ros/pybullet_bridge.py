@@ -180,9 +180,9 @@ class PyBulletBridge(GuardedNode):
             f'PyBullet bridge: {len(joints)} joints, mode {self.mode}, {self.steps_per_tick} '
             'step(s) of '
             f'{self.time_step * 1e3:.2f} ms per '
-            f'{"command" if self.mode == "lockstep" else "tick"}, commands on '
+            f"{'command' if self.mode == 'lockstep' else 'tick'}, commands on "
             f'/{controller_name}/commands'
-            f'{", hardware gravity compensation" if self.hw_gravity else ""}'
+            f"{', hardware gravity compensation' if self.hw_gravity else ''}"
         )
         self._publish_state()
 
