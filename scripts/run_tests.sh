@@ -3,6 +3,8 @@
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/venv.sh"
 export MPLBACKEND=Agg
+# the compiled cycle's kernels into their disk cache first: no test's timing includes a cold compile
+python -m orca_ros.optim.compiled.warm
 set +e
 python -m pytest -q test "$@"
 rc=$?
