@@ -37,11 +37,10 @@ Usage: python bench/bench_solvers.py [--rounds 5] [--scenarios panda quadruped t
 from __future__ import annotations
 
 import argparse
-import json
 import os
-import subprocess
 import sys
 
+from bench_tsid import run as run_peer  # one process per (scenario, solver), its JSON line
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -53,9 +52,7 @@ def floor_process(scenario: str, solver: str, steps) -> dict:
     cmd = [sys.executable, 'run_orca.py', scenario, '--floor', '--solver', solver]
     if steps is not None:
         cmd += ['--steps', str(steps)]
-    env = dict(os.environ, PYTHONWARNINGS='ignore')
-    out = subprocess.run(cmd, cwd=PEER, check=True, capture_output=True, text=True, env=env)
-    return json.loads(out.stdout.strip().splitlines()[-1])
+    return run_peer(cmd)
 
 
 def main(argv=None) -> int:

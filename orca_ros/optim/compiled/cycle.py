@@ -130,21 +130,25 @@ class CompiledCycle:
             self.in_python[c.name] = 'its cone and normal force bound (its kinematics by kernel)'
         self.in_python.pop(dyn.name, None)
         self.contacts, self.dynamics, self.owns_layout = contacts, dyn, True
+        self._ct_seen = [None] * n  # (gain, normal) last written to ct_par
         lay.T, lay.t0 = lay._T, lay._t0
 
     def _contacts(self, t: float, dt: float) -> None:
         """Run the contacts' own updates, mirror their existence conditions, then the kernel."""
         for c in self.contact_objects:
             c.update(t, dt)
-        tab, par = self.ct_tab, self.ct_par
+        tab, par, seen = self.ct_tab, self.ct_par, self._ct_seen
         for i, c in enumerate(self.contacts):
-            on = c.state not in _INACTIVE
             ex = c.existence
             ex.state, ex._ramp_factor = c.state, c._ramp_factor  # it mirrors its contact
-            tab[i, 3] = on
-            par[i, ck.CT_GAIN] = c.velocity_gain
-            if not tab[i, 4]:
-                par[i, ck.CT_N: ck.CT_N + 3] = c.normal
+            tab[i, 3] = c.state not in _INACTIVE
+            # gain and normal change only through their setters: written when they did
+            normal = None if tab[i, 4] else c.normal  # a surface's: its frame's z axis
+            if seen[i] is None or seen[i][0] != c.velocity_gain or seen[i][1] is not normal:
+                par[i, ck.CT_GAIN] = c.velocity_gain
+                if normal is not None:
+                    par[i, ck.CT_N: ck.CT_N + 3] = normal
+                seen[i] = (c.velocity_gain, normal)
         dyn = self.dynamics
         if dyn.state is not _ACTIVATED and dyn.state not in _INACTIVE:
             dyn._step_ramp(t)

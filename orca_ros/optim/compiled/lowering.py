@@ -302,8 +302,7 @@ class _JointBox(_Limited):
         tables.tab[k, 3] = offset_in(self.obj.lb, plan.box_lb)
 
     def refresh(self) -> None:
-        if self.obj._limits is not self.src:  # set_limits made a new pair
-            self._take_limits()
+        super().refresh()
         self.set_par(getattr(self.obj, 'horizon', 0.0))
 
 
