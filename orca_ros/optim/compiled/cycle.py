@@ -28,10 +28,11 @@ import time
 
 import numpy as np
 
-from . import contacts as ck, cycle_kernel, fill
+from . import contacts as ck, cycle_kernel, direct_daqp, fill
 from .lowering import lower, offset_in, Tables
 from .plan_assembly import PlanAssembly
 from .workspace import make_workspace
+from ..solvers import QPSolver
 from ...common.task_base import ActivationState
 from ...constraint.contact import Contact
 from ...constraint.surface_wrench_contact import SurfaceContact
@@ -47,6 +48,8 @@ def _has_callbacks(obj) -> bool:
 
 
 class CompiledCycle:
+    _said_why = False
+
     def __init__(self, controller, plan):
         start = time.perf_counter()
         robot = controller.robot
@@ -70,6 +73,7 @@ class CompiledCycle:
         self.robot, self.layout = robot, controller.layout
         self._lower_contacts(controller, plan)
         self._bind_data()
+        self.solver_in_kernel = self._solve_in_kernel(controller)
         # compile (or load) the kernel for this configuration's types, every object off: the
         # arrays it writes are rewritten by the first cycle
         t.tab[:, 1] = 0
@@ -79,6 +83,30 @@ class CompiledCycle:
             self.dyn[1] = 0
             cycle_kernel.run_contacts(self.ws, 1e-3)
         self.compile_seconds = time.perf_counter() - start
+
+    def _solve_in_kernel(self, controller) -> bool:
+        """
+        Give the first level DAQP's C solve by kernel (:mod:`.direct_daqp`).
+
+        When DAQP solves it in its stacked layout (no locked rows) and its C entry points passed
+        their check in this process; else the level keeps its back-end and the log says why once.
+        """
+        problem = self.problem
+        if controller.solver is not QPSolver.DAQP or not problem._stacked:
+            return False
+        why = direct_daqp.unavailable_reason()
+        if why is not None:
+            if not CompiledCycle._said_why:
+                _LOG.warning('%s: the first level is solved through the daqp package', why)
+                CompiledCycle._said_why = True
+            return False
+        lay = self.layout
+        problem.backend = b = direct_daqp.DirectDAQPBackend(
+            lay.nx, problem.n_eq, problem.n_in, scale=lay.variable_scale
+        )
+        plan = self.plan
+        b.compile_for(problem.H, problem.g, plan.M, plan.lo, plan.hi)
+        return True
 
     def _lower_contacts(self, controller, plan) -> None:
         """
@@ -209,5 +237,6 @@ class CompiledCycle:
         return (
             f'compiled cycle: {len(self.lowered)} of {self.n_objects} objects by kernel'
             + (f'; in Python: {rest}' if rest else '')
+            + ('; first level solved by DAQP in the kernel' if self.solver_in_kernel else '')
             + f' (kernels ready in {self.compile_seconds:.2f} s)'
         )

@@ -104,11 +104,18 @@ class DAQPBackend(QPBackend):
         try:
             if self._model is None:
                 model = self._daqp.Model()
-                model.setup(H, g, M, hi, lo, self._sense)
+                flag, _ = model.setup(H, g, M, hi, lo, self._sense)
+                if flag < 0:  # e.g. crossed bounds or a Hessian that is not positive definite
+                    self.iterations = 0
+                    return _FLAGS.get(int(flag), ReturnCode.SOLVER_ERROR)
                 self._model = model
                 self._cap = None
             else:
-                self._model.update(H=H, f=g, A=M, bupper=hi, blower=lo)
+                flag = self._model.update(H=H, f=g, A=M, bupper=hi, blower=lo)
+                if flag < 0:  # e.g. crossed bounds, found before any solve
+                    self._model = None
+                    self.iterations = 0
+                    return _FLAGS.get(int(flag), ReturnCode.SOLVER_ERROR)
             if cap != self._cap:
                 self._model.settings = {'iter_limit': int(cap)}
                 self._cap = cap

@@ -1,0 +1,128 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+The first level's solve in a kernel: scaling, DAQP's C solve, the solution in physical units.
+
+What :class:`~orca_ros.optim.solvers.ScaledBackend` and the DAQP wrapper do in Python, without
+them: the problem is scaled (x = D x~, see :mod:`orca_ros.optim.solvers.scaled_backend`) into the
+buffers DAQP's problem structure points to, ``daqp_update_ldp`` refreshes the workspace (the
+active set of the last solve kept, as ``daqp.Model.update`` keeps it) and ``daqp_solve`` solves.
+The C functions are called through their addresses (arguments, not constants: the kernel stays
+cacheable across processes, where the addresses change).
+"""
+
+from __future__ import annotations
+
+import math
+
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
+
+from ...utils.jit import njit
+
+_I8P = ir.IntType(8).as_pointer()
+_I32 = ir.IntType(32)
+
+
+@intrinsic
+def _update_ldp(typingctx, fn, mask, work, qp):
+    """
+    Call DAQP's update at address fn.
+
+    C: ``int daqp_update_ldp(int mask, DAQPWorkspace*, DAQPProblem*)``.
+    """
+    if not all(isinstance(a, types.Integer) for a in (fn, mask, work, qp)):
+        return None
+    sig = types.int32(fn, mask, work, qp)
+
+    def codegen(context, builder, signature, args):
+        fnty = ir.FunctionType(_I32, [_I32, _I8P, _I8P])
+        f = builder.inttoptr(args[0], fnty.as_pointer())
+        return builder.call(f, [builder.trunc(args[1], _I32), builder.inttoptr(args[2], _I8P),
+                                builder.inttoptr(args[3], _I8P)])
+
+    return sig, codegen
+
+
+@intrinsic
+def _solve(typingctx, fn, res, work):
+    """
+    Call DAQP's solve at address fn.
+
+    C: ``void daqp_solve(DAQPResult*, DAQPWorkspace*)``.
+    """
+    if not all(isinstance(a, types.Integer) for a in (fn, res, work)):
+        return None
+    sig = types.none(fn, res, work)
+
+    def codegen(context, builder, signature, args):
+        fnty = ir.FunctionType(ir.VoidType(), [_I8P, _I8P])
+        f = builder.inttoptr(args[0], fnty.as_pointer())
+        builder.call(f, [builder.inttoptr(args[1], _I8P), builder.inttoptr(args[2], _I8P)])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+#: ptrs: the addresses the kernel uses
+UPDATE, SOLVE, WORK, PROBLEM, RESULT = range(5)
+
+
+@njit
+def scale(H, g, M, lo, hi, d, dd, inv, Hs, gs, Ms, los, his):
+    """Write the problem in the solver's variables x~ = x / d into DAQP's buffers."""
+    n = d.shape[0]
+    for a in range(n):
+        gs[a] = g[a] * d[a]
+        for b in range(n):
+            Hs[a, b] = H[a, b] * dd[a, b]
+        los[a] = lo[a] * inv[a]
+        his[a] = hi[a] * inv[a]
+    for r in range(M.shape[0]):
+        for b in range(n):
+            Ms[r, b] = M[r, b] * d[b]
+    for a in range(n, lo.shape[0]):
+        los[a] = lo[a]
+        his[a] = hi[a]
+
+
+@njit
+def solve(ptrs, mask, cap, H, g, M, lo, hi, d, dd, inv, Hs, gs, Ms, los, his, xs, x,
+          settings_i32, result_i32, flag_at, iter_at, cap_at):
+    """
+    Scale, update DAQP's workspace with ``mask`` (0: just set up), solve, unscale into x.
+
+    Returns (DAQP's exit flag, its iterations); the flag of a failed update (< 0) without a
+    solve; -100 for a solution that is not finite; (0, 0) without a workspace (nothing solved).
+    """
+    scale(H, g, M, lo, hi, d, dd, inv, Hs, gs, Ms, los, his)
+    if ptrs[WORK] == 0:  # no workspace: a call that compiles (or loads) this kernel
+        return 0, 0
+    if mask:
+        flag = _update_ldp(ptrs[UPDATE], mask, ptrs[WORK], ptrs[PROBLEM])
+        if flag < 0:
+            return flag, 0
+    settings_i32[cap_at] = cap
+    _solve(ptrs[SOLVE], ptrs[RESULT], ptrs[WORK])
+    flag = result_i32[flag_at]
+    iters = result_i32[iter_at]
+    if flag > 0:
+        s = 0.0
+        for a in range(x.shape[0]):
+            x[a] = xs[a] * d[a]
+            s += x[a]
+        if not math.isfinite(s):
+            return -100, iters
+    return flag, iters
