@@ -288,13 +288,18 @@ class Controller(TaskRegistryMixin):
         if code is ReturnCode.SUCCESS:
             x = problem.x
             lay = self.layout
-            self._x[:] = x
-            self._acc[:] = x[lay.acc]
-            np.dot(lay.T, x, out=self._tau)
-            self._tau += lay.t0
+            if self.compiled_cycle is not None:
+                self.compiled_cycle.finish(x, self._x, self._acc, self._tau, self._tau_cmd)
+            else:
+                self._x[:] = x
+                self._acc[:] = x[lay.acc]
+                np.dot(lay.T, x, out=self._tau)
+                self._tau += lay.t0
+                self._tau_cmd[:] = self._tau
             for c in lay.contacts:
                 c.record_solution(x)
-            self._make_command()
+            if self._remove_gravity or self._remove_coriolis:
+                self._make_command()
             self._solution_found = True
         else:
             _LOG.debug(

@@ -78,6 +78,9 @@ class CompiledCycle:
         # arrays it writes are rewritten by the first cycle
         t.tab[:, 1] = 0
         cycle_kernel.run(self.ws, 1e-3)
+        lay = controller.layout
+        cycle_kernel.finish(self.ws, np.zeros(lay.nx), np.zeros(lay.nx), np.zeros(lay.nv),
+                            np.zeros(lay.ndof), np.zeros(lay.ndof))
         if self.owns_layout:
             self.ct_tab[:, 3] = 0
             self.dyn[1] = 0
@@ -231,6 +234,10 @@ class CompiledCycle:
         self.plan.box_conflicts += flags & 1
         self.problem.built_finite = not flags & 2
         self.assembly.contacts()
+
+    def finish(self, x, x_out, acc_out, tau, tau_cmd) -> None:
+        """The controller's solution, accelerations, torques and command from the level's x."""
+        cycle_kernel.finish(self.ws, x, x_out, acc_out, tau, tau_cmd)
 
     def describe(self) -> str:
         rest = ', '.join(f'{n} ({why})' for n, why in self.in_python.items())

@@ -53,3 +53,19 @@ def run_contacts(ws, dt):
     return contact_terms(ws.oMi, ws.vj, ws.aj, ws.J, ws.ct_sup, ws.M_pin, ws.nle, ws.Wj, ws.T,
                          ws.t0, ws.M, ws.lo, ws.hi, ws.nx, ws.ct_tab, ws.ct_par, ws.dyn[0],
                          ws.dyn[1], dt, ws.tmp)
+
+
+@njit
+def finish(ws, x, x_out, acc_out, tau, tau_cmd):
+    """The solution into the controller's arrays and the torques: tau = T x + t0, the command."""
+    for a in range(x.shape[0]):
+        x_out[a] = x[a]
+    for a in range(acc_out.shape[0]):
+        acc_out[a] = x[a]
+    T, t0 = ws.T, ws.t0
+    for i in range(tau.shape[0]):
+        s = 0.0
+        for a in range(x.shape[0]):
+            s += T[i, a] * x[a]
+        tau[i] = s + t0[i]
+        tau_cmd[i] = tau[i]
