@@ -22,15 +22,15 @@ any solve is used, and the controller then keeps the wrapper; set-ups do not lea
 import ctypes
 
 import numpy as np
+import orca_ros as orca
+from orca_ros.optim.solvers import make_backend, QPSolver, ReturnCode
+from orca_ros.paths import default_urdf_path
 import pytest
 
 pytest.importorskip('numba')
 pytest.importorskip('daqp')
 
-import orca_ros as orca  # noqa: E402
-from orca_ros.optim.compiled import daqp_c, direct_daqp  # noqa: E402
-from orca_ros.optim.solvers import make_backend, QPSolver, ReturnCode  # noqa: E402
-from orca_ros.paths import default_urdf_path  # noqa: E402
+from orca_ros.optim.compiled import daqp_c, direct_daqp  # noqa: E402,I100
 
 
 def _qp(rng, nx, ne, ni, infeasible=False):

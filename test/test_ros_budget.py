@@ -98,7 +98,11 @@ def test_timer_loop_keeps_its_period_and_its_fallback_under_a_failing_qp(tmp_pat
     # the fallback: every cycle failed and sent the safe command, finite and within the torques
     assert failures == cycles
     assert d1['_level'] == 2 and 'safe command: no QP solution' in d1['_message'], d1['_message']
-    assert commands.shape[0] > 0.9 * cycles  # (received by the probe: a few may be in flight)
+    # one command per cycle, counted by the node; the probe, a Python subscriber sharing the
+    # machine, receives a sample of them (under load fewer: 2765 of 3215 beside two CPU burners)
+    # whose content is checked
+    assert int(d1['commands_sent']) - int(d0['commands_sent']) == cycles
+    assert commands.shape[0] >= 300
     assert np.isfinite(commands).all() and np.abs(commands).max() <= 176.0
     # ... and held the arm (gravity and damping at the measured state)
     assert np.abs(q1 - q0).max() < 0.05, q1 - q0

@@ -128,6 +128,8 @@ class RobotModel(FrameApiMixin, JointLockingMixin):
         self._pos_limits = (lower, upper)
         self._vel_limits = np.array(model.velocityLimit[self.nbase:], dtype=float)
         self._trq_limits = np.array(model.effortLimit[self.nbase:], dtype=float)
+        # the fast state input a compiled cycle may give (robot/state_input.py); None: Python's
+        self._state_kernel = None
         self._q_pin = pin.neutral(model)
         self._v_pin = np.zeros(model.nv)
         self._q = np.zeros(self.ndof)

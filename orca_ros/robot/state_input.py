@@ -28,7 +28,9 @@ Two conventions are accepted:
 
 Every value is checked (shape, finite) before anything is written: a rejected state leaves the
 previous one. These run every control cycle: each check costs one reduction, the slow exact test
-runs only to name a fault.
+runs only to name a fault. A compiled cycle gives the robot a kernel for the common inputs
+(``robot._state_kernel``, :mod:`orca_ros.optim.compiled.state_kernel`): the same checks and
+writes in one call; what it refuses comes here to be named.
 """
 
 from __future__ import annotations
@@ -64,6 +66,11 @@ def checked(robot, x, shape, what) -> np.ndarray:
 def set_joint_and_base_state(robot, args) -> None:
     """``(q, v)`` for a fixed base, or ``(world_H_base, q, base_twist_world, v, gravity)``."""
     if len(args) == 2:
+        fast = robot._state_kernel
+        if fast is not None and fast.joint_state(robot, *args):
+            robot._stamp += 1
+            robot._initialized = True
+            return
         if robot.floating_base:
             raise ValueError(
                 'floating-base robot: use set_robot_state(world_H_base, q, base_twist, v, gravity)'
@@ -111,6 +118,13 @@ def set_joint_and_base_state(robot, args) -> None:
 
 
 def set_configuration(robot, q, v) -> None:
+    fast = robot._state_kernel
+    if fast is not None and fast.configuration(robot, q, v):
+        if robot.floating_base:
+            robot._base_from_q_pin = True
+        robot._stamp += 1
+        robot._initialized = True
+        return
     model = robot.model
     q = checked(robot, q, (model.nq,), 'configuration q')
     v = checked(robot, v, (model.nv,), 'velocity v')

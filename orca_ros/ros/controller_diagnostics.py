@@ -122,6 +122,7 @@ class ControllerDiagnostics:
             'loop_jitter_p99_ms': f"{stats['jitter_p99_ms']:.3f}",
             'cycles': str(stats['cycles']),
             'qp_failures': str(fails),
+            'commands_sent': str(self.commands_sent),
             'contacts_relaxed_cycles': str(self.contacts_relaxed_cycles),
             'dropped_levels': str(dropped),
             'rss_kb': str(_rss_kb()),

@@ -147,6 +147,7 @@ class OrcaControllerNode(
         self._safe_reason = None
         self._safe_cause = None
         self.qp_failures = 0
+        self.commands_sent = 0  # every command published (solved, safe or hold)
         self.contacts_relaxed_cycles = 0  # cycles solved with elastic contacts (see optim/)
         self._diagnosed = False
         self.qp_conflict = ''  # what diagnose() said of the last failing spell
@@ -360,6 +361,7 @@ class OrcaControllerNode(
         wire[self._wire_of_model] = cmd_model
         self._cmd_msg.data = wire.tolist()
         self.pub_cmd.publish(self._cmd_msg)
+        self.commands_sent += 1
 
     def shutdown_command(self) -> None:
         """

@@ -31,11 +31,13 @@ import numpy as np
 from . import contacts as ck, cycle_kernel, direct_daqp, fill
 from .lowering import lower, offset_in, Tables
 from .plan_assembly import PlanAssembly
+from .state_kernel import StateKernel
 from .workspace import make_workspace
 from ..solvers import QPSolver
 from ...common.task_base import ActivationState
 from ...constraint.contact import Contact
 from ...constraint.surface_wrench_contact import SurfaceContact
+from ...robot.state_input import _QUATERNION_TOL
 from ...utils.logger import get_logger
 
 _LOG = get_logger('compiled')
@@ -199,6 +201,8 @@ class CompiledCycle:
         if views is None:
             raise RuntimeError("Pinocchio's Data is not laid out as the kernels read it")
         self.data = d
+        if robot._state_kernel is None:  # a new robot model (a re-weld) comes without it
+            robot._state_kernel = StateKernel(robot, _QUATERNION_TOL)
         t.set_bodies(robot.model)
         for low in self.lowered:
             low.rebind_model()
@@ -236,7 +240,7 @@ class CompiledCycle:
         self.assembly.contacts()
 
     def finish(self, x, x_out, acc_out, tau, tau_cmd) -> None:
-        """The controller's solution, accelerations, torques and command from the level's x."""
+        """Write the controller's solution, accelerations, torques and command from x."""
         cycle_kernel.finish(self.ws, x, x_out, acc_out, tau, tau_cmd)
 
     def describe(self) -> str:

@@ -57,7 +57,7 @@ def run_contacts(ws, dt):
 
 @njit
 def finish(ws, x, x_out, acc_out, tau, tau_cmd):
-    """The solution into the controller's arrays and the torques: tau = T x + t0, the command."""
+    """Copy the solution into the controller's arrays; torques tau = T x + t0, the command."""
     for a in range(x.shape[0]):
         x_out[a] = x[a]
     for a in range(acc_out.shape[0]):

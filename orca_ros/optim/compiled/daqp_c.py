@@ -126,10 +126,12 @@ def check(work: WorkspaceHead, problem: Problem, sense: np.ndarray) -> None:
     """
     Raise LayoutError unless the workspace DAQP set up is laid out as declared.
 
-    Its sizes must be the problem's, its constraint states hold the given ones, its settings
-    equal, field by field, those ``daqp_default_settings`` writes into a fresh structure.
+    It must point to the problem, hold its sizes and constraint states in range, and its settings
+    must equal, field by field, those ``daqp_default_settings`` writes into a fresh structure.
     """
     lib = library()
+    if work.qp != C.addressof(problem):
+        raise LayoutError('workspace does not point to the problem it was set up with')
     if (work.n, work.m, work.ms) != (problem.n, problem.m, problem.ms):
         raise LayoutError(
             f'workspace sizes {(work.n, work.m, work.ms)} != problem '
@@ -137,11 +139,10 @@ def check(work: WorkspaceHead, problem: Problem, sense: np.ndarray) -> None:
         )
     if problem.m and not bool(work.sense):
         raise LayoutError('workspace has no constraint states')
+    # the set-up rewrites the states (active, immutable, zero rows...): within DAQP's 15 bits
     states = np.ctypeslib.as_array(work.sense, shape=(problem.m,)) if problem.m else sense[:0]
-    # the set-up adds states (active, immutable for an infinite bound, zero rows...) and keeps
-    # those given: every given bit kept, nothing outside DAQP's 15 state bits
-    if np.any((states & sense) != sense) or np.any((states < 0) | (states >= 1 << 15)):
-        raise LayoutError('workspace constraint states are not those given')
+    if np.any((states < 0) | (states >= 1 << 15)):
+        raise LayoutError('workspace constraint states out of range')
     if not bool(work.settings):
         raise LayoutError('workspace has no settings')
     expected = Settings()

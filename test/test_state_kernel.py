@@ -1,0 +1,146 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+The state input by kernel (optim/compiled/state_kernel.py) against the Python path.
+
+Two robots, one with the kernel a compiled cycle gives it and one without, take the same states:
+the same Pinocchio configuration, velocity, joint state and kinematics, bit for bit; a state the
+kernel refuses is named by the Python path and leaves the previous one; inputs the kernel does
+not take (lists, continuous joints) still enter.
+"""
+
+import numpy as np
+import orca_ros as orca
+from orca_ros.robot.state_input import _QUATERNION_TOL
+import pinocchio as pin
+import pytest
+
+pytest.importorskip('numba')
+
+from orca_ros.optim.compiled.state_kernel import StateKernel  # noqa: E402,I100
+
+
+def _pair(urdf, floating=False):
+    a, b = orca.RobotModel(), orca.RobotModel()
+    for r in (a, b):
+        r.load_model_from_file(urdf, floating_base=floating)
+    a._state_kernel = StateKernel(a, _QUATERNION_TOL)
+    return a, b
+
+
+def _same(a, b):
+    for name in ('_v_pin', '_q', '_v'):
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+    # the base quaternion is normalised by a norm summed in another order than numpy's dot
+    # (1 ulp apart); every other coordinate bit for bit
+    np.testing.assert_allclose(a._q_pin, b._q_pin, rtol=0.0, atol=4e-16)
+    joints = 7 if a.floating_base else 0
+    np.testing.assert_array_equal(a._q_pin[joints:], b._q_pin[joints:])
+
+
+def _random_configuration(model, rng):
+    q = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq))
+    return q, rng.standard_normal(model.nv)
+
+
+def test_fixed_base_states_equal_the_python_path(lwr_urdf, rng):
+    a, b = _pair(lwr_urdf)
+    for _ in range(50):
+        q, v = rng.uniform(-2, 2, 7), rng.standard_normal(7)
+        for r in (a, b):
+            r.set_robot_state(q, v)
+        _same(a, b)
+        q, v = _random_configuration(a.model, rng)
+        for r in (a, b):
+            r.set_configuration(q, v)
+        _same(a, b)
+    np.testing.assert_array_equal(a.get_frame_pose('link_7'), b.get_frame_pose('link_7'))
+
+
+def test_floating_base_configurations_equal_the_python_path(example_robot_urdf, rng):
+    a, b = _pair(example_robot_urdf('solo_description/robots/solo12.urdf'), floating=True)
+    for _ in range(50):
+        q, v = _random_configuration(a.model, rng)
+        q[3:7] *= 1.0 + 5e-4  # within the tolerance: normalised on both paths
+        for r in (a, b):
+            r.set_configuration(q, v)
+        _same(a, b)
+        np.testing.assert_allclose(a.get_base_velocity(), b.get_base_velocity(), atol=1e-15)
+        np.testing.assert_allclose(
+            a.get_world_to_base_transform(), b.get_world_to_base_transform(), atol=1e-15
+        )
+
+
+@pytest.mark.parametrize('fault', ['nan', 'inf', 'quaternion'])
+def test_refused_states_are_named_and_leave_the_previous_one(example_robot_urdf, rng, fault):
+    a, _ = _pair(example_robot_urdf('solo_description/robots/solo12.urdf'), floating=True)
+    q, v = _random_configuration(a.model, rng)
+    a.set_configuration(q, v)
+    before = a._q_pin.copy(), a._v_pin.copy(), a._q.copy(), a._v.copy()
+    bad_q, bad_v = q.copy(), v.copy()
+    if fault == 'nan':
+        bad_v[9] = np.nan
+        match = 'NaN or infinite'
+    elif fault == 'inf':
+        bad_q[10] = np.inf
+        match = 'NaN or infinite'
+    else:
+        bad_q[3:7] *= 1.01
+        match = 'quaternion norm'
+    with pytest.raises(ValueError, match=match):
+        a.set_configuration(bad_q, bad_v)
+    for x, y in zip(before, (a._q_pin, a._v_pin, a._q, a._v)):
+        np.testing.assert_array_equal(x, y)
+
+
+def test_huge_finite_values_are_not_refused(lwr_urdf):
+    a, b = _pair(lwr_urdf)
+    q = np.full(7, 1e308)  # their sum overflows; each is finite
+    for r in (a, b):
+        r.set_robot_state(q, np.zeros(7))
+    _same(a, b)
+
+
+def test_inputs_the_kernel_does_not_take_still_enter(lwr_urdf, example_robot_urdf, rng):
+    a, b = _pair(lwr_urdf)
+    q, v = list(rng.uniform(-1, 1, 7)), list(rng.standard_normal(7))
+    for r in (a, b):
+        r.set_robot_state(q, v)  # lists
+    _same(a, b)
+    q32 = np.asarray(q, dtype=np.float32)
+    for r in (a, b):
+        r.set_robot_state(q32, np.asarray(v)[::1])
+    _same(a, b)
+    # continuous joints (cos/sin pairs): the Python path
+    a, b = _pair(example_robot_urdf('kinova_description/robots/kinova.urdf'))
+    assert not a._q_simple
+    q, v = rng.uniform(-1, 1, a.ndof), rng.standard_normal(a.ndof)
+    for r in (a, b):
+        r.set_robot_state(q, v)
+    _same(a, b)
+
+
+def test_a_compiled_controller_gives_its_robot_the_kernel(lwr_urdf):
+    robot = orca.RobotModel()
+    robot.load_model_from_file(lwr_urdf)
+    robot.set_robot_state(np.zeros(7), np.zeros(7))
+    assert robot._state_kernel is None
+    c = orca.Controller('c', robot)
+    c.update(0.0, 1e-3)
+    assert isinstance(robot._state_kernel, StateKernel)
+    reference = orca.RobotModel()
+    reference.load_model_from_file(lwr_urdf)
+    reference.set_robot_state(np.zeros(7), np.zeros(7))
+    orca.Controller('r', reference, compiled=False).update(0.0, 1e-3)
+    assert reference._state_kernel is None
