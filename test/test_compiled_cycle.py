@@ -331,3 +331,62 @@ def test_compiled_equals_reference_on_the_quadruped(strategy):
     assert solved == 600, solved
     print(f'{strategy}: compiled vs reference {worst:.1e}, reference vs itself rounded {own:.1e}')
     assert worst <= max(1e-9, 10.0 * own), f'torques differ by {worst:.2e}, rounding {own:.1e}'
+
+
+def _changes(c, ee, post, robot):
+    """Return changes a user makes between cycles (Python attributes the kernels do not read)."""
+    T0 = robot.get_frame_pose('link_7').copy()
+    return [
+        ('set_weight', lambda: ee.set_weight(3.0)),
+        ('deactivate (ramp)', post.deactivate),
+        ('activate (ramp)', post.activate),
+        ('new limit pair', lambda: c.get_constraint('position').set_limits(
+            *(0.5 * x for x in robot.get_joint_position_limits()))),
+        ('regularisation damping', lambda: c.global_regularisation.set_damping(7.0)),
+        ('control frame', lambda: ee.servo_controller().set_control_frame('link_6')),
+        ('target after a new frame', lambda: ee.servo_controller().set_desired(T0)),
+        ('ramp duration', lambda: ee.set_ramp_duration(0.0)),
+        ('deactivate a constraint', c.get_constraint('velocity').deactivate),
+        ('deactivate all', c.deactivate_tasks_and_constraints),
+        ('activate all', c.activate_tasks_and_constraints),
+    ]
+
+
+def test_compiled_follows_changes_between_steady_cycles(lwr_urdf):
+    """
+    Between cycles where nothing changed the compiled cycle re-reads no Python object.
+
+    Every kind of change a user makes between such cycles is still taken at the next cycle:
+    the torques equal the reference path's after each (the watched attributes, common/watched.py).
+    """
+    pair = [_make(lwr_urdf, 'link_7', flag, 'one_level_weighted', 'base_link') for flag in
+            (True, False)]
+    q = np.array([0.1, 0.6, -0.2, -1.1, 0.3, 0.7, 0.1])
+    v = np.zeros(7)
+    T = None
+    for r, c, ee, post in pair:
+        r.set_robot_state(q, v)
+        T = r.get_frame_pose('link_7') @ pin.exp6(np.array([0.03, -0.02, 0.04, 0.1, 0, 0.2])
+                                                  ).homogeneous
+        ee.servo_controller().set_desired(T)
+        post.set_desired(q)
+    changes = [_changes(c, ee, post, r) for r, c, ee, post in pair]
+    k, worst, steady = 0, 0.0, 0
+    for i in range(len(changes[0])):
+        for _ in range(80):  # past the 0.05 s ramps: then steady cycles
+            for r, c, ee, post in pair:
+                r.set_robot_state(q, v)
+                ee.servo_controller().set_desired(T)  # streamed targets keep cycles steady
+                assert c.update(k * 1e-3, 1e-3)
+            if not pair[0][1].compiled_cycle.tables.watch.touched:
+                steady += 1
+            t1, t2 = (c.get_joint_torque_command() for _, c, _, _ in pair)
+            worst = max(worst, np.abs(t1 - t2).max() / max(1.0, np.abs(t2).max()))
+            k += 1
+        name0, change0 = changes[0][i]
+        name1, change1 = changes[1][i]
+        change0()
+        change1()
+    assert worst < 1e-9, worst
+    # most cycles re-read nothing (all but those after a change and during ramps)
+    assert steady > 0.6 * k, (steady, k)

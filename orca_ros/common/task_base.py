@@ -29,6 +29,7 @@ from __future__ import annotations
 from enum import Enum
 from typing import Callable
 
+from .watched import Watched
 from ..math.smooth_ramp import smooth_ramp
 from ..utils.logger import get_logger
 
@@ -47,7 +48,7 @@ _INACTIVE = (ActivationState.INIT, ActivationState.DEACTIVATED)
 _SNAP = 1e-9  # accumulated time steps rarely land exactly on the ramp's end
 
 
-class TaskBase:
+class TaskBase(Watched):
     def __init__(self, name: str):
         if not isinstance(name, str) or not name:
             raise ValueError('a task or constraint needs a non-empty name')

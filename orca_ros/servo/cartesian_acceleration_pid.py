@@ -26,10 +26,11 @@ import numpy as np
 import pinocchio as pin
 
 from .pid_controller import PIDController
+from ..common.watched import Watched
 from ..math.rotations import is_rotation
 
 
-class CartesianAccelerationPID:
+class CartesianAccelerationPID(Watched):
     def __init__(self, name: str = 'cartesian_servo'):
         self.name = name
         self._pid = PIDController(6)

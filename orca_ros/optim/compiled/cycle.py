@@ -68,6 +68,8 @@ class CompiledCycle:
         self.tables = t = Tables(self.lowered, robot)
         for k, low in enumerate(self.lowered):
             low.bind(t, k, plan)
+        for obj in controller._updated:  # the lowered ones watch themselves (bind)
+            obj.watch_by(t.watch)
         self.n_objects = len(controller._updated)
         self.plan = plan
         self.assembly = PlanAssembly(plan, controller._problems[0])
@@ -173,7 +175,8 @@ class CompiledCycle:
         tab, par, seen = self.ct_tab, self.ct_par, self._ct_seen
         for i, c in enumerate(self.contacts):
             ex = c.existence
-            ex.state, ex._ramp_factor = c.state, c._ramp_factor  # it mirrors its contact
+            if ex.state is not c.state or ex._ramp_factor != c._ramp_factor:
+                ex.state, ex._ramp_factor = c.state, c._ramp_factor  # it mirrors its contact
             tab[i, 3] = c.state not in _INACTIVE
             # gain and normal change only through their setters: written when they did
             normal = None if tab[i, 4] else c.normal  # a surface's: its frame's z axis
@@ -231,9 +234,12 @@ class CompiledCycle:
             self._contacts(t, dt)
         for obj in self.python:
             obj.update(t, dt)
-        for low in self.lowered:
-            low.step(t)
-        self.assembly.flags()
+        watch = self.tables.watch
+        if watch.touched:  # else no object changed since the last cycle: nothing to re-read
+            watch.touched = False
+            for low in self.lowered:
+                low.step(t)  # a ramp in progress touches its object: stepped again next cycle
+            self.assembly.flags()
         flags = cycle_kernel.run(self.ws, dt)
         self.plan.box_conflicts += flags & 1
         self.problem.built_finite = not flags & 2

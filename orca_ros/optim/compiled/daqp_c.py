@@ -106,6 +106,13 @@ class Library:
 
 
 _LIBRARY: Library | None = None
+_LIBC = C.CDLL(None)
+_LIBC.free.argtypes, _LIBC.free.restype = [_P], None
+
+
+def free(address: int) -> None:
+    """Free memory DAQP allocated (malloc) and handed over."""
+    _LIBC.free(address)
 
 
 def library() -> Library:

@@ -22,8 +22,11 @@ the iteration cap, and a failed solve starts the next one cold (a fresh workspac
 cycle): scaling, update, solve and the solution in physical units are one kernel call
 (:mod:`.daqp_kernel`); set-ups, rare, stay in Python (ctypes, :mod:`.daqp_c`).
 
-Every set-up checks the structures' layout against what DAQP wrote (:func:`.daqp_c.check`);
-a wrong layout raises before any solve is used.
+Every set-up checks the structures' layout against what DAQP wrote (:func:`.daqp_c.check`)
+before anything is written into the workspace; a wrong layout raises before any solve is used.
+DAQP's structures live in memory owned here, its workspace set up again in place after a
+failure; the settings it allocates are replaced by ours once checked (their iteration limit is
+written by the kernel), so the kernel's arrays never change.
 """
 
 from __future__ import annotations
@@ -41,12 +44,6 @@ from ..solvers.daqp_backend import _EQUALITY, _FLAGS
 _NON_FINITE = -100
 
 
-def _free(lib, work: np.ndarray) -> None:
-    address = work.ctypes.data
-    lib.free_workspace(address)
-    lib.free_ldp(address)
-
-
 class DirectDAQPBackend(QPBackend):
     """``solve_stacked`` of DAQPBackend (scaled by ``scale``), by kernel."""
 
@@ -57,81 +54,97 @@ class DirectDAQPBackend(QPBackend):
         self._lib = lib = daqp_c.library()
         m = n_eq + n_in
         d = np.ones(nx) if scale is None else np.asarray(scale, dtype=float).copy()
-        self._d, self._dd, self._inv = d, np.outer(d, d), 1.0 / d
-        self._Hs, self._gs = np.zeros((nx, nx)), np.zeros(nx)
-        self._Ms = np.zeros((m, nx))
-        self._los, self._his = np.zeros(nx + m), np.zeros(nx + m)
-        self._xs, self._lam = np.zeros(nx), np.zeros(nx + m)
         self._sense = np.zeros(nx + m, dtype=np.intc)
         self._sense[nx: nx + n_eq] = _EQUALITY
-        self._pbuf = np.zeros(C.sizeof(daqp_c.Problem) // 8 + 1, dtype=np.int64)
+        # DAQP's structures in memory owned here (8-byte words: aligned for its pointers):
+        # the problem, the result, the settings (given to the workspace: DAQP does not free
+        # them, see _release) and the workspace, set up again in place after a failure
+        self._pbuf = _words(daqp_c.Problem)
+        self._rbuf = _words(daqp_c.Result)
+        self._sbuf = _words(daqp_c.Settings)
+        self._wbuf = np.zeros(daqp_c.WORKSPACE_BYTES // 8, dtype=np.int64)
+        lib.default_settings(self._sbuf.ctypes.data)
+        self._work = daqp_c.struct_in(self._wbuf, daqp_c.WorkspaceHead)
+        self._set_up = False
+        self._ours = [False]  # the workspace holds our settings (put there once it checked)
+        self._finalizer = weakref.finalize(self, _release, lib, self._wbuf, self._ours)
+        # the state's arrays (the kernel's StructRef cannot be read from Python)
+        a = self._arrays = {
+            'ptrs': np.array([lib.update_address, lib.solve_address, 0, self._pbuf.ctypes.data,
+                              self._rbuf.ctypes.data], dtype=np.int64),
+            'H': np.zeros((nx, nx)), 'g': np.zeros(nx), 'M': np.zeros((m, nx)),
+            'lo': np.zeros(nx + m), 'hi': np.zeros(nx + m),
+            'd': d, 'dd': np.outer(d, d), 'inv': 1.0 / d,
+            'Hs': np.zeros((nx, nx)), 'gs': np.zeros(nx), 'Ms': np.zeros((m, nx)),
+            'los': np.zeros(nx + m), 'his': np.zeros(nx + m), 'xs': np.zeros(nx),
+            'x': np.zeros(nx),
+            'settings': self._sbuf.view(np.int32), 'result': self._rbuf.view(np.int32),
+            'cap_at': daqp_c.Settings.iter_limit.offset // 4,
+            'flag_at': daqp_c.Result.exitflag.offset // 4,
+            'iter_at': daqp_c.Result.iter.offset // 4,
+        }
+        self._ptrs = a['ptrs']
         p = self._problem = daqp_c.struct_in(self._pbuf, daqp_c.Problem)
         p.n, p.m, p.ms = nx, nx + m, nx
-        p.H, p.f = self._Hs.ctypes.data, self._gs.ctypes.data
-        p.A = self._Ms.ctypes.data if m else None
-        p.bupper, p.blower = self._his.ctypes.data, self._los.ctypes.data
-        self._rbuf = np.zeros(C.sizeof(daqp_c.Result) // 8 + 1, dtype=np.int64)
-        r = self._result = daqp_c.struct_in(self._rbuf, daqp_c.Result)
-        r.x, r.lam = self._xs.ctypes.data, self._lam.ctypes.data
-        self._result_i32 = self._rbuf.view(np.int32)
-        self._flag_at = daqp_c.Result.exitflag.offset // 4
-        self._iter_at = daqp_c.Result.iter.offset // 4
-        self._cap_at = daqp_c.Settings.iter_limit.offset // 4
-        self._ptrs = np.array(
-            [lib.update_address, lib.solve_address, 0, self._pbuf.ctypes.data,
-             self._rbuf.ctypes.data], dtype=np.int64,
-        )
-        self._work = None  # the workspace's memory while it holds a set-up problem
-        self._settings_i32 = None  # DAQP's settings (in memory DAQP owns), as int32
-        self._no_settings = np.zeros(C.sizeof(daqp_c.Settings) // 4, dtype=np.int32)
-        self._release = None
-        self.x = np.zeros(nx)
+        p.H, p.f = a['Hs'].ctypes.data, a['gs'].ctypes.data
+        p.A = a['Ms'].ctypes.data if m else None
+        p.bupper, p.blower = a['his'].ctypes.data, a['los'].ctypes.data
+        r = daqp_c.struct_in(self._rbuf, daqp_c.Result)
+        self._lam = np.zeros(nx + m)
+        r.x, r.lam = a['xs'].ctypes.data, self._lam.ctypes.data
+        self.x = a['x']
+        self._state = K.SolveState(*(a[f] for f in K.FIELDS))
+        self._bound = None  # the level's arrays the state holds (bind)
+
+    def bind(self, H, g, M, lo, hi) -> None:
+        """Read the level's problem from these arrays (the same every cycle)."""
+        self._arrays.update(H=H, g=g, M=M, lo=lo, hi=hi)
+        self._state = K.SolveState(*(self._arrays[f] for f in K.FIELDS))
+        self._bound = (H, g, M, lo, hi)
 
     def compile_for(self, H, g, M, lo, hi) -> None:
         """Compile (or load) the kernel for these arrays' types (at configuration)."""
-        if self._work is None:
-            self._run_kernel(0, 0, H, g, M, lo, hi)
+        self.bind(H, g, M, lo, hi)
+        if not self._set_up:
+            K.solve(self._state, 0, 0)
 
     def reset(self) -> None:
         """Forget the warm start: the next solve sets DAQP up again."""
-        if self._release is not None:
-            self._settings_i32 = None
-            self._release()  # frees what DAQP allocated for the workspace
-            self._release = self._work = None
+        if self._set_up:
+            _release(self._lib, self._wbuf, self._ours)
+            self._set_up = False
+            self._ptrs[K.WORK] = 0
 
-    def _setup(self, H, g, M, lo, hi) -> int:
+    def _setup(self) -> int:
         """Set DAQP up on this cycle's problem, as daqp.Model.setup does; DAQP's flag."""
         self.reset()
-        lib, p = self._lib, self._problem
-        work = np.zeros(daqp_c.WORKSPACE_BYTES, dtype=np.uint8)
-        address = work.ctypes.data
-        # before anything can fail: whatever DAQP allocates is freed with the workspace
-        release = weakref.finalize(self, _free, lib, work)
-        lib.allocate_settings(address)
-        K.scale(H, g, M, lo, hi, self._d, self._dd, self._inv, self._Hs, self._gs, self._Ms,
-                self._los, self._his)
+        lib, p, work = self._lib, self._problem, self._work
+        K.scale(self._state)
         p.sense = self._sense.ctypes.data
-        flag = lib.setup(C.addressof(p), address, None)
+        # nothing is written into the workspace before its layout is checked: DAQP allocates
+        # its own settings here, checked against the defaults, then replaced by ours
+        flag = lib.setup(C.addressof(p), self._wbuf.ctypes.data, None)
+        self._set_up = True  # whatever it allocated is freed by the next reset
         if flag < 0:
-            release()
+            self.reset()
             return flag
-        head = daqp_c.WorkspaceHead.from_buffer(work)
-        daqp_c.check(head, p, self._sense)
+        daqp_c.check(work, p, self._sense)
+        theirs = C.cast(work.settings, C.c_void_p).value
+        work.settings = C.cast(self._sbuf.ctypes.data, C.POINTER(daqp_c.Settings))
+        self._ours[0] = True
+        daqp_c.free(theirs)
         # from now on the workspace's own states: the next update keeps the active set
-        p.sense = C.cast(head.sense, C.c_void_p).value
-        settings = C.cast(head.settings, C.c_void_p).value
-        self._settings_i32 = np.ctypeslib.as_array(
-            (C.c_int32 * (C.sizeof(daqp_c.Settings) // 4)).from_address(settings)
-        )
-        self._work, self._release = work, release
-        self._ptrs[K.WORK] = address
+        p.sense = C.cast(work.sense, C.c_void_p).value
+        self._ptrs[K.WORK] = self._wbuf.ctypes.data
         return 0
 
-    def _run(self, mask: int, cap: int, H, g, M, lo, hi) -> ReturnCode:
+    def _run(self, mask: int, cap: int) -> ReturnCode:
         t0 = time.perf_counter()
-        flag, iters = self._run_kernel(mask, cap, H, g, M, lo, hi)
-        self.iterations = int(iters)
-        self.record(time.perf_counter() - t0, self.iterations)
+        flag, iters = K.solve(self._state, mask, cap)
+        self.iterations = iters
+        self.record(time.perf_counter() - t0, iters)
+        if flag == 1:
+            return ReturnCode.SUCCESS
         code = (
             ReturnCode.NON_FINITE_SOLUTION if flag == _NON_FINITE
             else _FLAGS.get(int(flag), ReturnCode.NOT_SOLVED)
@@ -140,33 +153,45 @@ class DirectDAQPBackend(QPBackend):
             self.reset()  # a failed solve leaves a useless active set: start cold next time
         return code
 
-    def _run_kernel(self, mask, cap, H, g, M, lo, hi):
-        settings = self._settings_i32 if self._settings_i32 is not None else self._no_settings
-        return K.solve(
-            self._ptrs, mask, cap, H, g, M, lo, hi, self._d, self._dd, self._inv, self._Hs,
-            self._gs, self._Ms, self._los, self._his, self._xs, self.x, settings,
-            self._result_i32, self._flag_at, self._iter_at, self._cap_at,
-        )
-
-    def _cold(self, cap: int, H, g, M, lo, hi) -> ReturnCode:
-        flag = self._setup(H, g, M, lo, hi)
+    def _cold(self, cap: int) -> ReturnCode:
+        flag = self._setup()
         if flag < 0:
             self.iterations = 0
             return _FLAGS.get(int(flag), ReturnCode.SOLVER_ERROR)
-        return self._run(0, cap, H, g, M, lo, hi)
+        return self._run(0, cap)
 
     def solve_stacked(self, H, g, M, lo, hi) -> ReturnCode:
         """Solve in DAQP's layout: M = [A; C], lo = [lbox; b; l], hi = [ubox; b; u]."""
+        b = self._bound
+        if b is None or H is not b[0] or g is not b[1] or M is not b[2] or lo is not b[3] \
+                or hi is not b[4]:
+            self.bind(H, g, M, lo, hi)
         cap = self.iteration_cap()
-        if self._work is None:
-            return self._cold(cap, H, g, M, lo, hi)
-        code = self._run(daqp_c.UPDATE_ALL, cap, H, g, M, lo, hi)
+        if not self._set_up:
+            return self._cold(cap)
+        code = self._run(daqp_c.UPDATE_ALL, cap)
         if code is not ReturnCode.SUCCESS and self.iterations < cap:
-            code = self._cold(cap - self.iterations, H, g, M, lo, hi)  # once more, cold
+            code = self._cold(cap - self.iterations)  # once more, cold
         return code
 
     def solve(self, H, g, A, b, C, lc, u, lbox, ubox) -> ReturnCode:
         raise NotImplementedError('the compiled cycle solves its first level stacked')
+
+
+def _words(cls) -> np.ndarray:
+    return np.zeros(C.sizeof(cls) // 8 + 1, dtype=np.int64)
+
+
+def _release(lib, wbuf: np.ndarray, ours: list) -> None:
+    """Free what DAQP allocated for the workspace in ``wbuf`` (our settings excepted)."""
+    if not wbuf.any():
+        return  # nothing set up
+    if ours[0]:
+        daqp_c.WorkspaceHead.from_buffer(wbuf).settings = None
+        ours[0] = False
+    lib.free_workspace(wbuf.ctypes.data)
+    lib.free_ldp(wbuf.ctypes.data)
+    wbuf[:] = 0
 
 
 _CHECKED: list = []  # [None] once the C path passed its check in this process, [why] if not

@@ -35,6 +35,7 @@ import numpy as np
 
 from . import fill, kernels
 from ...common.task_base import ActivationState
+from ...common.watched import Touched
 from ...constraint.joint_limit_constraints import (
     JointAccelerationLimitConstraint,
     JointPositionLimitConstraint,
@@ -86,6 +87,8 @@ class Tables:
         self.body = np.zeros((robot.model.njoints, 4))
         self.set_bodies(robot.model)
         self.next = {'cart': 0, 'joint': 0, 'lims': 0, 'com': 0}
+        #: set when an object of this configuration (or its servo) changed an attribute
+        self.watch = Touched()
 
     def set_bodies(self, model) -> None:
         """Each joint's body [mass, lever] (row 0: the total mass), from the model's inertias."""
@@ -115,6 +118,7 @@ class _Lowered:
         self.tables, self.k = tables, k
         tables.tab[k, 0] = self.kind
         tables.tab[k, 1] = 0
+        self.obj.watch_by(tables.watch)
 
     def step(self, t: float) -> None:
         """Advance the activation ramp (as TaskBase.update) and set the table's on flag."""
@@ -179,6 +183,7 @@ class _Cartesian(_Lowered):
         task, t = self.obj, self.tables
         robot = task.robot
         servo = self.servo = task.servo_controller()
+        servo.watch_by(t.watch)
         pid = servo.pid()
         self.fid = servo._fid
         frame = robot.model.frames[self.fid]
