@@ -288,7 +288,7 @@ class Controller(TaskRegistryMixin):
         if code is ReturnCode.SUCCESS:
             x = problem.x
             lay = self.layout
-            if self.compiled_cycle is not None:
+            if self.compiled_cycle is not None:  # the contacts' wrenches too
                 self.compiled_cycle.finish(x, self._x, self._acc, self._tau, self._tau_cmd)
             else:
                 self._x[:] = x
@@ -296,8 +296,8 @@ class Controller(TaskRegistryMixin):
                 np.dot(lay.T, x, out=self._tau)
                 self._tau += lay.t0
                 self._tau_cmd[:] = self._tau
-            for c in lay.contacts:
-                c.record_solution(x)
+                for c in lay.contacts:
+                    c.record_solution(x)
             if self._remove_gravity or self._remove_coriolis:
                 self._make_command()
             self._solution_found = True

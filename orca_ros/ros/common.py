@@ -24,8 +24,15 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPo
 STATE_QOS = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.BEST_EFFORT, history=HistoryPolicy.KEEP_LAST
 )
+# a command's reader (the hardware) applies the latest only: depth 1
 COMMAND_QOS = QoSProfile(
     depth=1, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST
+)
+# its writer keeps the last second at 1 kHz: a reliable reader that lags (a recorder on a busy
+# machine) still receives every command. With depth 1 the writer replaced samples not yet
+# acknowledged, and a bag of 8643 cycles once held 8319 commands
+COMMAND_WRITER_QOS = QoSProfile(
+    depth=1000, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST
 )
 DEFAULT_QOS = QoSProfile(
     depth=10, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST

@@ -40,7 +40,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray, String
 
 from .common import (
-    COMMAND_QOS,
+    COMMAND_WRITER_QOS,
     DESCRIPTION_QOS,
     nested_parameters,
     param,
@@ -168,7 +168,7 @@ class OrcaControllerNode(
         self.pub_cmd = self.create_publisher(
             Float64MultiArray,
             str(param(self, 'command_topic', '/effort_controller/commands')),
-            COMMAND_QOS,
+            COMMAND_WRITER_QOS,
         )
         self.create_subscription(JointState, 'joint_states', self._on_joint_state, STATE_QOS)
         # floating base: the base pose and twist come from odom (nav_msgs/Odometry, twist in

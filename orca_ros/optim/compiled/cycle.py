@@ -76,6 +76,7 @@ class CompiledCycle:
         self.problem = controller._problems[0]
         self.robot, self.layout = robot, controller.layout
         self._lower_contacts(controller, plan)
+        self._bind_wrenches(controller)
         self._bind_data()
         self.solver_in_kernel = self._solve_in_kernel(controller)
         # compile (or load) the kernel for this configuration's types, every object off: the
@@ -218,7 +219,8 @@ class CompiledCycle:
             lims=t.lims, pacc=t.pacc, tab=t.tab, par=t.par, tmp=t.tmp,
             com=d.com[0], vcom=d.vcom[0], Jcom=d.Jcom, body=t.body, crec=t.crec,
             M_pin=d.M, nle=d.nle, Wj=self.Wj, ct_tab=self.ct_tab, ct_par=self.ct_par,
-            ct_sup=self.ct_sup, dyn=self.dyn, **self.assembly.arrays(),
+            ct_sup=self.ct_sup, dyn=self.dyn, ct_ws=self.ct_ws, ct_last=self.ct_last,
+            n_wrenches=self.n_wrenches, **self.assembly.arrays(),
         )
 
     def update(self, t: float, dt: float) -> None:
@@ -243,11 +245,25 @@ class CompiledCycle:
         flags = cycle_kernel.run(self.ws, dt)
         self.plan.box_conflicts += flags & 1
         self.problem.built_finite = not flags & 2
-        self.assembly.contacts()
+        self.assembly.contacts()  # the wrench bounds (the kernel writes the joints' only)
 
     def finish(self, x, x_out, acc_out, tau, tau_cmd) -> None:
-        """Write the controller's solution, accelerations, torques and command from x."""
+        """Write the controller's solution, accelerations, torques, command and wrenches."""
         cycle_kernel.finish(self.ws, x, x_out, acc_out, tau, tau_cmd)
+
+    def _bind_wrenches(self, controller) -> None:
+        """
+        The contacts' last wrenches: rows of one array the finish kernel writes.
+
+        (``ContactBase.record_solution``, for every contact of the layout.)
+        """
+        contacts = list(controller.layout.contacts)
+        self.ct_ws = np.array([c.wrench_slice().start for c in contacts] or [0], dtype=np.int64)
+        self.ct_last = np.zeros((max(1, len(contacts)), 6))
+        for i, c in enumerate(contacts):
+            self.ct_last[i] = c.last_wrench
+            c.last_wrench = self.ct_last[i]
+        self.n_wrenches = len(contacts)
 
     def describe(self) -> str:
         rest = ', '.join(f'{n} ({why})' for n, why in self.in_python.items())

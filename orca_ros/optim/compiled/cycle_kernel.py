@@ -69,3 +69,7 @@ def finish(ws, x, x_out, acc_out, tau, tau_cmd):
             s += T[i, a] * x[a]
         tau[i] = s + t0[i]
         tau_cmd[i] = tau[i]
+    last, first = ws.ct_last, ws.ct_ws
+    for c in range(ws.n_wrenches):
+        for k in range(6):
+            last[c, k] = x[first[c] + k]
