@@ -41,6 +41,9 @@ KEY_OF_MODULE = {
     'pinocchio': 'pinocchio',
     'proxsuite': 'proxsuite',
     'numba': 'python3-numba',
+    # numba's code generator: a dependency of numba's own (Debian's python3-numba depends on
+    # python3-llvmlite), used directly by the kernel that calls DAQP's C functions
+    'llvmlite': 'python3-numba',
     'pybullet': 'python3-pybullet-pip',
     'pybullet_data': 'python3-pybullet-pip',
     'pybullet_utils': 'python3-pybullet-pip',

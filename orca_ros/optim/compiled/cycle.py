@@ -253,7 +253,7 @@ class CompiledCycle:
 
     def _bind_wrenches(self, controller) -> None:
         """
-        The contacts' last wrenches: rows of one array the finish kernel writes.
+        Make the contacts' last wrenches rows of one array, which the finish kernel writes.
 
         (``ContactBase.record_solution``, for every contact of the layout.)
         """
