@@ -122,6 +122,20 @@ def test_inputs_the_kernel_does_not_take_still_enter(lwr_urdf, example_robot_urd
     for r in (a, b):
         r.set_robot_state(q32, np.asarray(v)[::1])
     _same(a, b)
+    # the kernel's entry point reads its arrays as 1-D, contiguous, aligned float64 without
+    # checking (utils.jit.entry): every other array must take the Python path, and be read right
+    wide = np.stack([rng.uniform(-1, 1, 7), np.zeros(7)], axis=1)  # a strided column
+    raw = np.zeros(7 * 8 + 1, dtype=np.uint8)[1:].view(np.float64)  # misaligned
+    raw[:] = rng.uniform(-1, 1, 7)
+    column = np.asfortranarray(rng.uniform(-1, 1, (7, 1)))  # 2-D (the Python path ravels it)
+    frozen = rng.uniform(-1, 1, 7)
+    frozen.flags.writeable = False  # read-only (a message's buffer): the kernel takes it
+    for qi in (wide[:, 0], raw, column, frozen, np.asarray(q, dtype=np.int64)):
+        vi = rng.standard_normal(7)
+        for r in (a, b):
+            r.set_robot_state(qi, vi)
+        _same(a, b)
+        np.testing.assert_array_equal(a._q, np.asarray(qi, dtype=float).ravel())
     # continuous joints (cos/sin pairs): the Python path
     a, b = _pair(example_robot_urdf('kinova_description/robots/kinova.urdf'))
     assert not a._q_simple

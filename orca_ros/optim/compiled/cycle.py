@@ -38,6 +38,7 @@ from ...common.task_base import ActivationState
 from ...constraint.contact import Contact
 from ...constraint.surface_wrench_contact import SurfaceContact
 from ...robot.state_input import _QUATERNION_TOL
+from ...utils.jit import entry
 from ...utils.logger import get_logger
 
 _LOG = get_logger('compiled')
@@ -82,14 +83,14 @@ class CompiledCycle:
         # compile (or load) the kernel for this configuration's types, every object off: the
         # arrays it writes are rewritten by the first cycle
         t.tab[:, 1] = 0
-        cycle_kernel.run(self.ws, 1e-3)
+        self._run(self.ws, 1e-3)
         lay = controller.layout
-        cycle_kernel.finish(self.ws, np.zeros(lay.nx), np.zeros(lay.nx), np.zeros(lay.nv),
-                            np.zeros(lay.ndof), np.zeros(lay.ndof))
+        self._finish(self.ws, np.zeros(lay.nx), np.zeros(lay.nx), np.zeros(lay.nv),
+                     np.zeros(lay.ndof), np.zeros(lay.ndof))
         if self.owns_layout:
             self.ct_tab[:, 3] = 0
             self.dyn[1] = 0
-            cycle_kernel.run_contacts(self.ws, 1e-3)
+            self._run_contacts(self.ws, 1e-3)
         self.compile_seconds = time.perf_counter() - start
 
     def _solve_in_kernel(self, controller) -> bool:
@@ -190,7 +191,7 @@ class CompiledCycle:
         if dyn.state is not _ACTIVATED and dyn.state not in _INACTIVE:
             dyn._step_ramp(t)
         self.dyn[1] = dyn.state not in _INACTIVE
-        cycle_kernel.run_contacts(self.ws, dt)
+        self._run_contacts(self.ws, dt)
 
     def _bind_data(self) -> None:
         """
@@ -222,6 +223,14 @@ class CompiledCycle:
             ct_sup=self.ct_sup, dyn=self.dyn, ct_ws=self.ct_ws, ct_last=self.ct_last,
             n_wrenches=self.n_wrenches, **self.assembly.arrays(),
         )
+        # the kernels for this workspace's types, called without the dispatcher's type
+        # resolution (utils.jit.entry: ~1 us per call with the workspace as argument); the
+        # finish kernel's arrays are the controller's and the levels' solutions (float64, 1-D)
+        ws = self.ws
+        self._run = entry(cycle_kernel.run, ws, 1e-3)
+        self._run_contacts = entry(cycle_kernel.run_contacts, ws, 1e-3)
+        vec = np.zeros(1)
+        self._finish = entry(cycle_kernel.finish, ws, vec, vec, vec, vec, vec)
 
     def update(self, t: float, dt: float) -> None:
         """
@@ -242,14 +251,14 @@ class CompiledCycle:
             for low in self.lowered:
                 low.step(t)  # a ramp in progress touches its object: stepped again next cycle
             self.assembly.flags()
-        flags = cycle_kernel.run(self.ws, dt)
+        flags = self._run(self.ws, dt)
         self.plan.box_conflicts += flags & 1
         self.problem.built_finite = not flags & 2
         self.assembly.contacts()  # the wrench bounds (the kernel writes the joints' only)
 
     def finish(self, x, x_out, acc_out, tau, tau_cmd) -> None:
         """Write the controller's solution, accelerations, torques, command and wrenches."""
-        cycle_kernel.finish(self.ws, x, x_out, acc_out, tau, tau_cmd)
+        self._finish(self.ws, x, x_out, acc_out, tau, tau_cmd)
 
     def _bind_wrenches(self, controller) -> None:
         """

@@ -40,6 +40,7 @@ import numpy as np
 from . import daqp_c, daqp_kernel as K
 from ..solvers.base import QPBackend, ReturnCode
 from ..solvers.daqp_backend import _EQUALITY, _FLAGS
+from ...utils.jit import entry
 
 _NON_FINITE = -100
 
@@ -94,19 +95,23 @@ class DirectDAQPBackend(QPBackend):
         r.x, r.lam = a['xs'].ctypes.data, self._lam.ctypes.data
         self.x = a['x']
         self._state = K.SolveState(*(a[f] for f in K.FIELDS))
+        # the solve kernel for the state's types, called without the dispatcher's type
+        # resolution (utils.jit.entry); again in bind(), for the level's arrays' types
+        self._solve = entry(K.solve, self._state, 0, 0)
         self._bound = None  # the level's arrays the state holds (bind)
 
     def bind(self, H, g, M, lo, hi) -> None:
         """Read the level's problem from these arrays (the same every cycle)."""
         self._arrays.update(H=H, g=g, M=M, lo=lo, hi=hi)
         self._state = K.SolveState(*(self._arrays[f] for f in K.FIELDS))
+        self._solve = entry(K.solve, self._state, 0, 0)  # for these arrays' types
         self._bound = (H, g, M, lo, hi)
 
     def compile_for(self, H, g, M, lo, hi) -> None:
         """Compile (or load) the kernel for these arrays' types (at configuration)."""
         self.bind(H, g, M, lo, hi)
         if not self._set_up:
-            K.solve(self._state, 0, 0)
+            self._solve(self._state, 0, 0)
 
     def reset(self) -> None:
         """Forget the warm start: the next solve sets DAQP up again."""
@@ -140,7 +145,7 @@ class DirectDAQPBackend(QPBackend):
 
     def _run(self, mask: int, cap: int) -> ReturnCode:
         t0 = time.perf_counter()
-        flag, iters = K.solve(self._state, mask, cap)
+        flag, iters = self._solve(self._state, mask, cap)
         self.iterations = iters
         self.record(time.perf_counter() - t0, iters)
         if flag == 1:

@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from ...utils.jit import njit
+from ...utils.jit import entry, njit
 
 _OK, _REFUSED = 0, 1
 
@@ -88,8 +88,9 @@ def joint_state(q, v, q_pin, v_pin, q_out, v_out):
 
 
 def _fits(a, n) -> bool:
+    # exactly the type the kernels' entry points were compiled for (see utils.jit.entry)
     return (type(a) is np.ndarray and a.dtype == np.float64 and a.shape == (n,)
-            and a.flags.c_contiguous)
+            and a.flags.c_contiguous and a.flags.aligned)
 
 
 class StateKernel:
@@ -99,19 +100,21 @@ class StateKernel:
         self.tol = tol
         r = robot
         q, v = r._q_pin.copy(), r._v_pin.copy()
-        configuration(q, v, q.copy(), v.copy(), r._q.copy(), r._v.copy(), r.nbase, tol)
-        joint_state(r._q.copy(), r._v.copy(), q, v, r._q.copy(), r._v.copy())
+        self._configuration = entry(
+            configuration, q, v, q.copy(), v.copy(), r._q.copy(), r._v.copy(), r.nbase, tol
+        )
+        self._joint_state = entry(joint_state, r._q.copy(), r._v.copy(), q, v, r._q, r._v)
 
     def configuration(self, robot, q, v) -> bool:
         """Return True when the state was taken; False: the Python path takes (or refuses) it."""
         r = robot
         if not (r._q_simple and _fits(q, r.model.nq) and _fits(v, r.model.nv)):
             return False
-        return configuration(q, v, r._q_pin, r._v_pin, r._q, r._v, r.nbase, self.tol) == _OK
+        return self._configuration(q, v, r._q_pin, r._v_pin, r._q, r._v, r.nbase, self.tol) == _OK
 
     def joint_state(self, robot, q, v) -> bool:
         """Return True when a fixed base's (q, v) was taken; False: the Python path's."""
         r = robot
         if r.floating_base or not (r._q_simple and _fits(q, r.ndof) and _fits(v, r.ndof)):
             return False
-        return joint_state(q, v, r._q_pin, r._v_pin, r._q, r._v) == _OK
+        return self._joint_state(q, v, r._q_pin, r._v_pin, r._q, r._v) == _OK
