@@ -45,6 +45,7 @@ from ..utils.logger import get_logger
 from ..utils.optional_import import MissingDependency
 
 _LOG = get_logger('controller')
+_SUCCESS = ReturnCode.SUCCESS
 
 
 class Controller(TaskRegistryMixin):
@@ -272,24 +273,34 @@ class Controller(TaskRegistryMixin):
         ):  # a configuration cycle: solver workspaces are set up, its solves are not time-bounded
             self._configure()
             deadline = None
-        if self.compiled_cycle is None or not self.compiled_cycle.owns_layout:
-            self.layout.update()
-        if self.compiled_cycle is not None:
-            self.compiled_cycle.update(current_time, dt)
+        cc = self.compiled_cycle
+        if cc is not None:  # the layout's update included
+            cc.update(current_time, dt)
         else:
+            self.layout.update()
             for obj in self._updated:
                 obj.update(current_time, dt)
             self._plan.update()
-        problem, code, dropped = self._levels.solve(
-            deadline, self._max_iterations, self.priorities, self.name
-        )
+        if cc is not None and cc.steady:  # one level, solved by kernel: no levels to walk
+            levels = self._levels
+            levels.contacts_relaxed = False
+            problem, dropped = cc.problem, False
+            code = cc.solve_first(deadline, self._max_iterations)
+            if code is not _SUCCESS:
+                problem, code, dropped = levels.first_failed(
+                    problem, code, deadline, self._max_iterations
+                )
+        else:
+            problem, code, dropped = self._levels.solve(
+                deadline, self._max_iterations, self.priorities, self.name
+            )
         self.dropped_levels += dropped
         self._return_code = code
-        if code is ReturnCode.SUCCESS:
+        if code is _SUCCESS:
             x = problem.x
             lay = self.layout
-            if self.compiled_cycle is not None:  # the contacts' wrenches too
-                self.compiled_cycle.finish(x, self._x, self._acc, self._tau, self._tau_cmd)
+            if cc is not None:  # the contacts' wrenches too
+                cc.finish(x, self._x, self._acc, self._tau, self._tau_cmd)
             else:
                 self._x[:] = x
                 self._acc[:] = x[lay.acc]

@@ -86,6 +86,21 @@ class PriorityLevels:
         for p in self.problems[1:]:
             p.set_temporal_damping(mu)
 
+    def first_failed(self, problem, code, deadline, max_iterations):
+        """
+        Level 0 failed with ``code``: solve it with elastic contacts where there are contacts.
+
+        Returns (level 0's problem, the final code, False).
+        """
+        if self.elastic.available:
+            elastic = self.elastic.solve(problem, deadline, max_iterations)
+            if elastic is ReturnCode.SUCCESS:
+                problem.x[:] = self.elastic.x
+                problem.return_code = elastic
+                self.contacts_relaxed = True
+                return problem, elastic, False
+        return problem, code, False
+
     def solve(self, deadline, max_iterations, priorities, name: str):
         """
         Solve the level(s) in priority order.
@@ -112,14 +127,7 @@ class PriorityLevels:
             code = problem.solve()
             if code is not ReturnCode.SUCCESS:
                 if i == 0:
-                    if self.elastic.available:
-                        elastic = self.elastic.solve(problem, deadline, max_iterations)
-                        if elastic is ReturnCode.SUCCESS:
-                            problem.x[:] = self.elastic.x
-                            problem.return_code = elastic
-                            self.contacts_relaxed = True
-                            return problem, elastic, False
-                    return problem, code, False
+                    return self.first_failed(problem, code, deadline, max_iterations)
                 # lower levels are feasible by construction (see lower_level_problem); should a
                 # solver still fail, the level is dropped for this cycle: the solution above
                 # satisfies every constraint

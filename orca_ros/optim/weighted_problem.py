@@ -161,8 +161,9 @@ class WeightedProblem:
             code = self.backend.solve(
                 self.H, self.g, self.A, self.b, self.C, self.l, self.u, self.lbox, self.ubox
             )
-        if code is ReturnCode.SUCCESS:
-            x = self.backend.x
+        x = self.backend.x
+        # a back-end that writes into this level's x (the compiled cycle's DAQP) checked it
+        if code is ReturnCode.SUCCESS and x is not self.x:
             if not math.isfinite(x.sum()):
                 code = ReturnCode.NON_FINITE_SOLUTION
                 self.backend.reset()

@@ -18,18 +18,23 @@ What ``ProblemLayout.update`` (each contact's Jacobian, T = [M_a, -J_c,a^T], t0 
 floating base's ``DynamicsEquationConstraint`` ([M_u, -J_c,u^T] x = -n_u) and each
 ``ContactExistenceCondition`` (J nu_dot = -J_dot nu - gain * (J nu, less what goes into the
 surface)) compute, for point contacts (``Contact``, with or without an offset) and
-``SurfaceContact``. The contacts' own rows (friction cones, the normal force bound that follows
-their activation ramp) stay in Python. ``ct_tab[i]`` = [joint, rows of the existence condition
-(3 or 6), its first row in M, on, normal from the frame's z axis]; ``ct_par[i]`` = [frame rotation
-in its joint (9, row-major), frame position (3), point offset in the frame (3), normal in the world
-(3), velocity gain].
+``SurfaceContact``; and a surface contact's cone rows, which turn with its sole (its
+``_update_constraint_function``: the faces F in world axes, F blockdiag(R^T, R^T), and the normal
+row R[:, 2]). What else the contacts' rows hold (a point contact's cone, the normal force bound
+that follows the activation ramp) changes only with their Python state: written by their update
+on the cycles after it changed. ``ct_tab[i]`` = [joint, rows of the existence condition (3 or 6),
+its first row in M, on, a surface (normal from the frame's z axis), its cone's first row in M, its
+faces, its wrench's first column]; ``ct_par[i]`` = [frame rotation in its joint (9, row-major),
+frame position (3), point offset in the frame (3), normal in the world (3), velocity gain];
+``ct_faces[i]``: a surface's faces in the sole's frame (faces x 6).
 """
 
 from __future__ import annotations
 
 from ...utils.jit import njit
 
-CT_JOINT, CT_ROWS, CT_ROW, CT_ON, CT_Z_NORMAL = range(5)
+CT_JOINT, CT_ROWS, CT_ROW, CT_ON, CT_Z_NORMAL, CT_CONE, CT_FACES, CT_WCOL = range(8)
+CT_TAB = 8
 CT_R, CT_P, CT_OFF, CT_N, CT_GAIN = 0, 9, 12, 15, 18
 CT_PAR = 19
 
@@ -102,8 +107,19 @@ def point_rows(par, oMi, vj, aj, j, J, support, Jp, tmp):
 
 
 @njit
+def surface_cone(F, k, R, M, row, col):
+    """Write a sole's cone in world axes: M[row:row+k, col:col+6] = F blockdiag(R^T, R^T)."""
+    for r in range(k):
+        for c in range(3):
+            M[row + r, col + c] = F[r, 0] * R[c, 0] + F[r, 1] * R[c, 1] + F[r, 2] * R[c, 2]
+            M[row + r, col + 3 + c] = F[r, 3] * R[c, 0] + F[r, 4] * R[c, 1] + F[r, 5] * R[c, 2]
+    for c in range(3):  # the normal force row: the sole's z axis
+        M[row + k, col + c] = R[c, 2]
+
+
+@njit
 def contact_terms(oMi, vj, aj, J, ct_sup, M_pin, nle, Wj, T, t0, M, lo, hi, nx, ct_tab, ct_par,
-                  dyn_row, dyn_on, dt, tmp):
+                  ct_faces, dyn_row, dyn_on, dt, tmp):
     """Every contact's Jacobian and existence rows, the torque map and the dynamics rows."""
     nv = J.shape[1]
     nb = nv - T.shape[0]
@@ -113,6 +129,9 @@ def contact_terms(oMi, vj, aj, J, ct_sup, M_pin, nle, Wj, T, t0, M, lo, hi, nx, 
         point_rows(par, oMi, vj, aj, ct_tab[i, CT_JOINT], J, ct_sup[i], Jp, tmp)
         if not ct_tab[i, CT_ON]:
             continue
+        if ct_tab[i, CT_Z_NORMAL]:
+            surface_cone(ct_faces[i], ct_tab[i, CT_FACES], tmp[12:21].reshape(3, 3), M,
+                         ct_tab[i, CT_CONE], ct_tab[i, CT_WCOL])
         m, r0 = ct_tab[i, CT_ROWS], ct_tab[i, CT_ROW]
         gain = min(par[CT_GAIN], 0.5 / dt) if dt > 0.0 else 0.0
         v, a = tmp[0:6], tmp[6:12]

@@ -33,7 +33,7 @@ from .lowering import lower, offset_in, Tables
 from .plan_assembly import PlanAssembly
 from .state_kernel import StateKernel
 from .workspace import make_workspace
-from ..solvers import QPSolver
+from ..solvers import QPSolver, ReturnCode
 from ...common.task_base import ActivationState
 from ...constraint.contact import Contact
 from ...constraint.surface_wrench_contact import SurfaceContact
@@ -80,6 +80,8 @@ class CompiledCycle:
         self._bind_wrenches(controller)
         self._bind_data()
         self.solver_in_kernel = self._solve_in_kernel(controller)
+        # one level, solved by kernel: the controller calls solve_first instead of the levels'
+        self.steady = self.solver_in_kernel and len(controller._problems) == 1
         # compile (or load) the kernel for this configuration's types, every object off: the
         # arrays it writes are rewritten by the first cycle
         t.tab[:, 1] = 0
@@ -114,6 +116,7 @@ class CompiledCycle:
             lay.nx, problem.n_eq, problem.n_in, scale=lay.variable_scale
         )
         plan = self.plan
+        b.write_into(problem.x)
         b.compile_for(problem.H, problem.g, plan.M, plan.lo, plan.hi)
         return True
 
@@ -129,8 +132,10 @@ class CompiledCycle:
         contacts = list(lay.contacts)
         self.contacts, self.owns_layout = [], False
         n = len(contacts)
-        self.ct_tab = np.zeros((max(1, n), 5), dtype=np.int64)
+        self.ct_tab = np.zeros((max(1, n), ck.CT_TAB), dtype=np.int64)
         self.ct_par = np.zeros((max(1, n), ck.CT_PAR))
+        faces = [c.faces_local.shape[0] for c in contacts if isinstance(c, SurfaceContact)]
+        self.ct_faces = np.zeros((max(1, n), max(faces, default=1), 6))
         self.ct_sup = np.zeros((max(1, n), lay.nv), dtype=np.bool_)
         self.dyn = np.array([-1, 0], dtype=np.int64)
         self.Wj = lay.wrench_jacobian if n else np.zeros((0, lay.nv))
@@ -144,8 +149,13 @@ class CompiledCycle:
         model = self.robot.model
         for i, c in enumerate(contacts):
             frame = model.frames[c._fid]
+            surface = isinstance(c, SurfaceContact)
             self.ct_tab[i] = [frame.parentJoint, c.existence_rows,
-                              offset_in(c.existence.C, plan.M), 0, isinstance(c, SurfaceContact)]
+                              offset_in(c.existence.C, plan.M), 0, surface,
+                              offset_in(c.C, plan.M) if surface else 0,
+                              c.faces_local.shape[0] if surface else 0, c.wrench_slice().start]
+            if surface:
+                self.ct_faces[i, : c.faces_local.shape[0]] = c.faces_local
             par = self.ct_par[i]
             par[ck.CT_R: ck.CT_R + 9] = frame.placement.rotation.reshape(-1)
             par[ck.CT_P: ck.CT_P + 3] = frame.placement.translation
@@ -164,14 +174,27 @@ class CompiledCycle:
         self.python = [o for o in self.python if o not in self.contact_objects]
         for c in contacts:
             self.in_python.pop(c.existence.name, None)
-            self.in_python[c.name] = 'its cone and normal force bound (its kinematics by kernel)'
+            self.in_python[c.name] = (
+                'its rows after a change of its state (its kinematics and the cone of a sole,'
+                ' which turns with it, by kernel)'
+            )
         self.in_python.pop(dyn.name, None)
         self.contacts, self.dynamics, self.owns_layout = contacts, dyn, True
         self._ct_seen = [None] * n  # (gain, normal) last written to ct_par
         lay.T, lay.t0 = lay._T, lay._t0
 
-    def _contacts(self, t: float, dt: float) -> None:
-        """Run the contacts' own updates, mirror their existence conditions, then the kernel."""
+    def _contacts(self, t: float, dt: float, full: bool) -> None:
+        """
+        Run the contacts' own updates, mirror their existence conditions, then the kernel.
+
+        Their updates only on a full pass (an object changed since the last one): what else
+        changes from cycle to cycle in their rows is the kernel's (a sole's cone turns with it).
+        """
+        if full:
+            self._contact_objects(t, dt)
+        self._run_contacts(self.ws, dt)
+
+    def _contact_objects(self, t: float, dt: float) -> None:
         for c in self.contact_objects:
             c.update(t, dt)
         tab, par, seen = self.ct_tab, self.ct_par, self._ct_seen
@@ -191,7 +214,6 @@ class CompiledCycle:
         if dyn.state is not _ACTIVATED and dyn.state not in _INACTIVE:
             dyn._step_ramp(t)
         self.dyn[1] = dyn.state not in _INACTIVE
-        self._run_contacts(self.ws, dt)
 
     def _bind_data(self) -> None:
         """
@@ -214,12 +236,15 @@ class CompiledCycle:
         # the torque map (T, t0): Pinocchio's M and nle themselves without contacts (what
         # layout.update points to every cycle), the layout's own arrays with contacts
         T, t0 = (d.M[nb:], d.nle[nb:]) if lay.n_wrenches == 0 else (lay._T, lay._t0)
+        if lay.n_wrenches == 0:
+            lay.T, lay.t0 = T, t0  # what layout.update sets: update() calls it no more
         self.ws = make_workspace(
             J=d.J, oMi=views[0], vj=views[1], aj=views[2], q=robot._q, v=robot._v,
             v_pin=robot._v_pin, T=T, t0=t0, cart=t.cart, cart_sup=t.cart_sup, jrec=t.jrec,
             lims=t.lims, pacc=t.pacc, tab=t.tab, par=t.par, tmp=t.tmp,
             com=d.com[0], vcom=d.vcom[0], Jcom=d.Jcom, body=t.body, crec=t.crec,
             M_pin=d.M, nle=d.nle, Wj=self.Wj, ct_tab=self.ct_tab, ct_par=self.ct_par,
+            ct_faces=self.ct_faces,
             ct_sup=self.ct_sup, dyn=self.dyn, ct_ws=self.ct_ws, ct_last=self.ct_last,
             n_wrenches=self.n_wrenches, **self.assembly.arrays(),
         )
@@ -240,21 +265,51 @@ class CompiledCycle:
         """
         if self.robot.data is not self.data:
             self._bind_data()
+        # full: an object changed since the last cycle's updates, or changes in this one's (a
+        # ramp in progress: then the next cycle is full too, the flag stays set)
+        watch = self.tables.watch
+        full = watch.touched
+        watch.touched = False
         if self.owns_layout:
             self.robot._update_terms()  # computeAllTerms (ProblemLayout.update's, on that path)
-            self._contacts(t, dt)
+            self._contacts(t, dt, full)
+        elif self.layout.n_wrenches:
+            self.layout.update()
+        else:  # (T, t0) are views on Pinocchio's M and nle (_bind_data)
+            self.robot._update_terms()
         for obj in self.python:
             obj.update(t, dt)
-        watch = self.tables.watch
-        if watch.touched:  # else no object changed since the last cycle: nothing to re-read
-            watch.touched = False
+        full = full or watch.touched
+        if full:  # else no object changed: nothing to re-read
             for low in self.lowered:
                 low.step(t)  # a ramp in progress touches its object: stepped again next cycle
             self.assembly.flags()
         flags = self._run(self.ws, dt)
         self.plan.box_conflicts += flags & 1
         self.problem.built_finite = not flags & 2
-        self.assembly.contacts()  # the wrench bounds (the kernel writes the joints' only)
+        if self.plan.contacts and (full or not self.owns_layout):
+            # the wrench bounds (the kernel writes the joints' only): they change with the
+            # contacts' state (lowered contacts: after a change; else their updates may any time)
+            self.assembly.contacts()
+
+    def solve_first(self, deadline, max_iterations) -> ReturnCode:
+        """
+        Solve the first and only level by kernel (when ``steady``); its code.
+
+        What PriorityLevels.solve and WeightedProblem.solve do for it (the budget, the check of
+        the built problem, the solve, the code kept), without their layers: its H and g are
+        built and the back-end writes the level's x (DirectDAQPBackend.write_into).
+        """
+        problem = self.problem
+        if problem.built_finite:
+            b = problem.backend
+            b.deadline = deadline
+            b.max_iterations = max_iterations or b.default_max_iterations
+            code = b.solve_bound()
+        else:
+            code = ReturnCode.NON_FINITE_PROBLEM
+        problem.return_code = code
+        return code
 
     def finish(self, x, x_out, acc_out, tau, tau_cmd) -> None:
         """Write the controller's solution, accelerations, torques, command and wrenches."""

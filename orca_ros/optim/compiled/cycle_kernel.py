@@ -51,8 +51,8 @@ def run(ws, dt):
 def run_contacts(ws, dt):
     """Compute the contacts' kinematics, the torque map and the dynamics rows (first)."""
     return contact_terms(ws.oMi, ws.vj, ws.aj, ws.J, ws.ct_sup, ws.M_pin, ws.nle, ws.Wj, ws.T,
-                         ws.t0, ws.M, ws.lo, ws.hi, ws.nx, ws.ct_tab, ws.ct_par, ws.dyn[0],
-                         ws.dyn[1], dt, ws.tmp)
+                         ws.t0, ws.M, ws.lo, ws.hi, ws.nx, ws.ct_tab, ws.ct_par, ws.ct_faces,
+                         ws.dyn[0], ws.dyn[1], dt, ws.tmp)
 
 
 @njit

@@ -141,12 +141,13 @@ def solve(s, mask, cap):
     _solve(ptrs[SOLVE], ptrs[RESULT], ptrs[WORK])
     flag = s.result[s.flag_at]
     iters = s.result[s.iter_at]
-    if flag > 0:
+    if flag > 0:  # x written only when finite: it may be the level's own solution
         x, xs, d = s.x, s.xs, s.d
         total = 0.0
         for a in range(x.shape[0]):
-            x[a] = xs[a] * d[a]
-            total += x[a]
+            total += xs[a] * d[a]
         if not math.isfinite(total):
             return -100, iters
+        for a in range(x.shape[0]):
+            x[a] = xs[a] * d[a]
     return flag, iters

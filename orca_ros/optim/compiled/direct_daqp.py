@@ -100,6 +100,17 @@ class DirectDAQPBackend(QPBackend):
         self._solve = entry(K.solve, self._state, 0, 0)
         self._bound = None  # the level's arrays the state holds (bind)
 
+    def write_into(self, x: np.ndarray) -> None:
+        """
+        Write the solution into ``x`` (the level's own, float64 of size nx) from now on.
+
+        The kernel writes it only when it is finite (else the solve fails, x untouched): the
+        level neither checks nor copies it again (WeightedProblem.solve).
+        """
+        self._arrays['x'] = self.x = x
+        self._state = K.SolveState(*(self._arrays[f] for f in K.FIELDS))
+        self._solve = entry(K.solve, self._state, 0, 0)
+
     def bind(self, H, g, M, lo, hi) -> None:
         """Read the level's problem from these arrays (the same every cycle)."""
         self._arrays.update(H=H, g=g, M=M, lo=lo, hi=hi)
@@ -171,6 +182,10 @@ class DirectDAQPBackend(QPBackend):
         if b is None or H is not b[0] or g is not b[1] or M is not b[2] or lo is not b[3] \
                 or hi is not b[4]:
             self.bind(H, g, M, lo, hi)
+        return self.solve_bound()
+
+    def solve_bound(self) -> ReturnCode:
+        """Solve the problem of the arrays bound last (bind, solve_stacked)."""
         cap = self.iteration_cap()
         if not self._set_up:
             return self._cold(cap)

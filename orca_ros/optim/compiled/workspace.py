@@ -39,8 +39,8 @@ FIELDS = (
     # total mass) and the CoM tasks' records
     'com', 'vcom', 'Jcom', 'body', 'crec',
     # the contacts (compiled/contacts.py): Pinocchio's M and nle, the wrench Jacobians, the
-    # contacts' table and parameters, the dynamics rows [first row in M, on]
-    'M_pin', 'nle', 'Wj', 'ct_tab', 'ct_par', 'ct_sup', 'dyn',
+    # contacts' table, parameters and soles' faces, the dynamics rows [first row in M, on]
+    'M_pin', 'nle', 'Wj', 'ct_tab', 'ct_par', 'ct_faces', 'ct_sup', 'dyn',
     # every contact's wrench: its first variable, its last solved wrench, how many contacts
     'ct_ws', 'ct_last', 'n_wrenches',
     # sizes: nx, n_eq, level 0's dense rows and diagonal tasks, soft boxes, first joint, joints
