@@ -140,6 +140,59 @@ def test_lockstep_runs_are_deterministic(tmp_path):
     )  # it did move
 
 
+def test_lockstep_steps_once_per_answered_instant(tmp_path):
+    """
+    A command that names the state it answers steps that instant only, however often it comes.
+
+    The controller answers a state the simulator announced again (it waits 0.2 s for a command)
+    with the same command: on a busy machine, where the controller was only slow, twice. Each copy
+    stepped the simulation once more, and two lockstep runs on a loaded machine ended 1e-5 rad
+    apart. Commands come in order (one reliable writer): the copies reach the simulator before the
+    next instant's answer, which must find it exactly one step on.
+    """
+    from orca_ros.ros.common import ANSWERS, COMMAND_WRITER_QOS
+    from std_msgs.msg import Float64MultiArray, MultiArrayDimension
+
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    procs.start_arm_bridge('lockstep')
+    probe = Probe(domain)
+    pub = probe.node.create_publisher(
+        Float64MultiArray, '/effort_controller/commands', COMMAND_WRITER_QOS
+    )
+
+    def command(answers=None):
+        m = Float64MultiArray()
+        m.data = [0.0] * 7
+        if answers is not None:
+            m.layout.dim = [MultiArrayDimension(label=f'{ANSWERS}{round(answers * 1e9)}',
+                                                size=7, stride=7)]
+        return m
+
+    def step(msgs):
+        t = probe.sim_time()
+        for m in msgs:
+            pub.publish(m)
+        probe.wait_for(lambda: probe.sim_time() > t, 60, 'a step')
+        return t, probe.sim_time()
+
+    try:
+        probe.wait_for(lambda: probe.sim_time() >= 0.0, 60, "the simulator's first state")
+        t0, t1 = step([command(probe.sim_time())])
+        dt = t1 - t0
+        assert dt > 0.0
+        # the answer to t0 twice more (stale: t0 stepped), then the answer to t1
+        _, t2 = step([command(t0), command(t0), command(t1)])
+        assert abs(t2 - (t1 + dt)) < 1e-9, (t1, t2, dt)
+        # a command that names no state steps on arrival (any other controller's)
+        _, t3 = step([command()])
+        assert abs(t3 - (t2 + dt)) < 1e-9, (t2, t3, dt)
+        assert 'Traceback' not in procs.log('bridge')
+    finally:
+        probe.close()
+        procs.stop()
+
+
 def test_pause_enable_and_diagnostics(system):
     probe, procs = system
     # bridge pause: simulated time stops. Paused, the lockstep bridge re-announces its frozen

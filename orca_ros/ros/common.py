@@ -149,6 +149,17 @@ def stamp_to_sec(stamp) -> float:
     return stamp.sec + stamp.nanosec * 1e-9
 
 
+# lockstep: a command names the state it answers in its layout's label (its dimension, the
+# joints: a consumer that reads only ``data``, as ros2_control's, is unaffected), so that the
+# simulator steps once per instant even when the same answer comes twice
+ANSWERS = 'answers_state_ns='
+
+
+def stamp_ns(stamp) -> int:
+    """Return a message stamp in integer nanoseconds (exact, to compare stamps)."""
+    return stamp.sec * 1_000_000_000 + stamp.nanosec
+
+
 def sec_to_stamp(t: float, msg_stamp) -> None:
     sec = int(np.floor(t))
     msg_stamp.sec = sec

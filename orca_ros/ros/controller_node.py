@@ -37,9 +37,10 @@ import time
 from nav_msgs.msg import Odometry
 import numpy as np
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Float64MultiArray, String
+from std_msgs.msg import Float64MultiArray, MultiArrayDimension, String
 
 from .common import (
+    ANSWERS,
     COMMAND_WRITER_QOS,
     DESCRIPTION_QOS,
     nested_parameters,
@@ -165,6 +166,12 @@ class OrcaControllerNode(
         self._last_loop_wall = None
         self._cmd_msg = Float64MultiArray()
         self._cmd_msg.data = [0.0] * self.n
+        # lockstep: the command names the state it answers (common.ANSWERS)
+        self._state_ns = 0
+        self._cmd_dim = None
+        if self.trigger == 'joint_state':
+            self._cmd_dim = MultiArrayDimension(label=ANSWERS, size=self.n, stride=self.n)
+            self._cmd_msg.layout.dim = [self._cmd_dim]
         self.pub_cmd = self.create_publisher(
             Float64MultiArray,
             str(param(self, 'command_topic', '/effort_controller/commands')),
@@ -360,6 +367,8 @@ class OrcaControllerNode(
         wire = np.empty(self.n)
         wire[self._wire_of_model] = cmd_model
         self._cmd_msg.data = wire.tolist()
+        if self._cmd_dim is not None:
+            self._cmd_dim.label = f'{ANSWERS}{self._state_ns}'
         self.pub_cmd.publish(self._cmd_msg)
         self.commands_sent += 1
 

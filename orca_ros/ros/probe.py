@@ -51,6 +51,7 @@ class Probe:
         self.lock = threading.Lock()
         self.joints = list(joints or self.ARM_JOINTS)
         self.states: list = []  # (stamp, q, v)
+        self._latest_stamp = -1.0  # the newest state's stamp (the tests' own states have 0)
         self.odom: list = []  # (stamp, position, quaternion xyzw)
         self.commands: list = []
         self.efforts: list = []  # (stamp, torques the simulator applied in the step before stamp)
@@ -136,6 +137,7 @@ class Probe:
         q = dict(zip(m.name, m.position))
         if any(j not in q for j in self.joints):
             return  # the tests' own malformed states
+        self._latest_stamp = max(self._latest_stamp, stamp)
         self._append(
             self.states, (stamp, np.array([q[j] for j in self.joints]), np.array(m.velocity))
         )
@@ -190,8 +192,12 @@ class Probe:
         raise AssertionError(f'timed out after {timeout} s waiting for {what}')
 
     def sim_time(self) -> float:
-        s = self.last_state()
-        return -1.0 if s is None else s[0]
+        """
+        Return the simulated time: the newest stamp of a joint state (-1 before any).
+
+        Not the last state's: a test's own unstamped states (bad input) come in between.
+        """
+        return self._latest_stamp
 
     def wait_sim(self, seconds: float, timeout: float = 60.0):
         t_end = self.sim_time() + seconds

@@ -25,7 +25,12 @@ joint order is the URDF file's, not Pinocchio's).
 
 Modes: ``free_running`` (the simulation advances at wall-clock rate ``rate``) and ``lockstep``
 (each command advances the simulation by ``control_period`` and answers with the new state:
-deterministic runs). Services: ``~/reset``, ``~/pause``, ``~/unpause`` (std_srvs/Trigger).
+deterministic runs). Waiting for a command, lockstep announces the state again every 0.2 s (a
+controller started late, a state lost); the controller answers a repeated state with its command
+of that instant again, so a controller that was only slow sends it twice. A command that names
+the state it answers (its layout's label, see ``common.ANSWERS``: this package's controller does
+in lockstep) steps only the instant it names; one that names none steps on arrival. Services:
+``~/reset``, ``~/pause``, ``~/unpause`` (std_srvs/Trigger).
 
 Watchdog (free running): without a valid command for ``command_timeout`` [0.02 s of simulated time]
 the bridge holds the robot like a drive would (the last command fades over ``hold_ramp`` [0.05 s]
@@ -46,11 +51,13 @@ from std_msgs.msg import Float64MultiArray, String
 from std_srvs.srv import Trigger
 
 from .common import (
+    ANSWERS,
     COMMAND_QOS,
     DESCRIPTION_QOS,
     param,
     run_node,
     sec_to_stamp,
+    stamp_ns,
     STATE_QOS,
 )
 from .guarded_node import GuardedNode
@@ -155,6 +162,8 @@ class PyBulletBridge(GuardedNode):
         self.paused = bool(param(self, 'start_paused', False))
         self._cmd = np.zeros(len(joints))
         self._last_cmd_time = None
+        self._state_ns = 0  # the stamp of the state last published [ns]
+        self.stale_answers = 0  # lockstep: commands dropped, answers to an instant already stepped
 
         self.pub_js = self.create_publisher(JointState, 'joint_states', STATE_QOS)
         self.pub_odom = (
@@ -188,6 +197,9 @@ class PyBulletBridge(GuardedNode):
 
     # -------------------------------------------------------------- commands and stepping
     def _on_command(self, msg: Float64MultiArray) -> None:
+        if self.mode == 'lockstep' and self._answers_an_older_state(msg):
+            self.stale_answers += 1
+            return
         cmd = np.asarray(msg.data, dtype=float)
         if cmd.size != len(self.joints) or not np.all(np.isfinite(cmd)):
             if cmd.size != len(self.joints):
@@ -213,6 +225,21 @@ class PyBulletBridge(GuardedNode):
             self.say('info', 'watchdog:resume', 'effort commands resumed: hold released')
         if self.mode == 'lockstep':
             self._advance()
+
+    def _answers_an_older_state(self, msg: Float64MultiArray) -> bool:
+        """
+        Tell a command that names a state other than the last published one (common.ANSWERS).
+
+        The controller answers a state announced again (see the module) with the same command:
+        sent twice, it must step once. Commands that name no state step on arrival.
+        """
+        dim = msg.layout.dim
+        if not dim or not dim[0].label.startswith(ANSWERS):
+            return False
+        try:
+            return int(dim[0].label[len(ANSWERS):]) != self._state_ns
+        except ValueError:
+            return False
 
     def _advance(self) -> None:
         if self.stop_time > 0 and self.server.get_time() >= self.stop_time - 1e-9:
@@ -295,6 +322,7 @@ class PyBulletBridge(GuardedNode):
             sec_to_stamp(self.server.get_time(), js.header.stamp)
         else:
             js.header.stamp = self.get_clock().now().to_msg()
+        self._state_ns = stamp_ns(js.header.stamp)
         o = self._state_map
         js.position = self.model.get_joint_positions(o).tolist()
         js.velocity = self.model.get_joint_velocities(o).tolist()

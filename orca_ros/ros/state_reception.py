@@ -30,7 +30,7 @@ from nav_msgs.msg import Odometry
 import numpy as np
 from sensor_msgs.msg import JointState
 
-from .common import pose_to_matrix, stamp_to_sec
+from .common import pose_to_matrix, stamp_ns, stamp_to_sec
 from .joint_state_input import StateRejected
 
 
@@ -59,6 +59,7 @@ class StateReception:
         self._locked_q[:] = self._input.locked_positions
         self._state_wall = time.monotonic()
         self._state_stamp = stamp
+        self._state_ns = stamp_ns(msg.header.stamp)
         self._on_new_state()
 
     def _on_odom(self, msg: Odometry) -> None:
