@@ -56,6 +56,10 @@ def checked_limits(value, n: int, what: str) -> np.ndarray:
     return v
 
 
+# a state this close to its target (m or rad, per s, per s^2) is at it: no trajectory is planned
+_AT_TARGET = 1e-9
+
+
 class _Profile:
     """One Ruckig trajectory over n DoF, started at a time stamp and sampled by absolute time."""
 
@@ -67,6 +71,7 @@ class _Profile:
         self._inp.synchronization = getattr(rk.Synchronization, synchronization)
         self._traj = rk.Trajectory(n)
         self.t0: float | None = None
+        self._rest = None  # the target, when the state already is there (no trajectory)
 
     def plan(self, t0, p, v, a, target, vmax, amax, jmax) -> float:
         inp = self._inp
@@ -78,23 +83,37 @@ class _Profile:
         inp.target_position = list(target)
         inp.target_velocity = inp.target_acceleration = [0.0] * self.n
         inp.max_velocity, inp.max_acceleration, inp.max_jerk = list(vmax), list(amax), list(jmax)
-        res = self._otg.calculate(inp, self._traj)
-        if res not in (self._rk.Result.Working, self._rk.Result.Finished):
-            raise ValueError(f'no trajectory to this target (Ruckig: {res.name})')
+        self._rest = None
+        try:
+            res = self._otg.calculate(inp, self._traj)
+        except self._rk.RuckigError as exc:
+            res, why = None, str(exc).strip().splitlines()[0]
+        ok = res in (self._rk.Result.Working, self._rk.Result.Finished)
+        if not ok:
+            # a state already at the target but for rounding (1e-15 m away, 1e-27 m/s) makes
+            # Ruckig fail, in any synchronization: no trajectory, the target held
+            dust = max(np.abs(np.subtract(target, p)).max(), np.abs(v).max(), np.abs(a).max())
+            if not dust <= _AT_TARGET:  # NaN included
+                raise ValueError(
+                    f'no trajectory to this target (Ruckig: {why if res is None else res.name})'
+                )
+            self._rest = np.array(target, dtype=float)
         self.t0 = float(t0)
-        return self._traj.duration
+        return self.duration
 
     @property
     def duration(self) -> float:
-        return self._traj.duration
+        return 0.0 if self._rest is not None else self._traj.duration
 
     def sample(self, t: float):
+        if self._rest is not None:
+            return self._rest.copy(), np.zeros(self.n), np.zeros(self.n)
         tau = min(max(t - self.t0, 0.0), self._traj.duration)
         p, v, a = self._traj.at_time(tau)
         return np.asarray(p), np.asarray(v), np.asarray(a)
 
     def done(self, t: float) -> bool:
-        return self.t0 is None or t - self.t0 >= self._traj.duration
+        return self.t0 is None or t - self.t0 >= self.duration
 
 
 class JointTrajectory:
