@@ -187,7 +187,14 @@ def main(argv=None) -> int:
             states = list(probe.states)
     except AssertionError as exc:
         print(f'main job failed: {exc}')
-        print(procs.log('controller')[-2000:])
+        with probe.lock:
+            n_states = len(probe.states)
+            last = probe.states[-1][0] if probe.states else None
+        print(f'the job saw {n_states} joint states, the last stamped {last}, the newest '
+              f'{probe.sim_time()}; end effector there {probe.ee_pose()[:3, 3]}; errors in '
+              f'its callbacks: {probe.spin_errors[:3]}')
+        if not args.attach:  # attached, the nodes' logs are the user's
+            print(procs.log('controller')[-2000:])
         print(f'node logs: {logs}')
         return 1
     finally:

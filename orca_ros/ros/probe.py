@@ -51,6 +51,7 @@ class Probe:
         self.lock = threading.Lock()
         self.joints = list(joints or self.ARM_JOINTS)
         self.states: list = []  # (stamp, q, v)
+        self.spin_errors: list = []  # errors raised by callbacks (the spin goes on)
         self._latest_stamp = -1.0  # the newest state's stamp (the tests' own states have 0)
         self.odom: list = []  # (stamp, position, quaternion xyzw)
         self.commands: list = []
@@ -126,7 +127,12 @@ class Probe:
 
     def _spin(self):
         while not self._stop and self.context.ok():
-            self.executor.spin_once(timeout_sec=0.05)
+            try:
+                self.executor.spin_once(timeout_sec=0.05)
+            except Exception as exc:  # noqa: BLE001 - a callback's error must not stop the
+                # recording (the thread would die silently and every state after be missed)
+                if len(self.spin_errors) < 100:
+                    self.spin_errors.append(repr(exc))
 
     def _append(self, lst, item):
         with self.lock:
