@@ -41,22 +41,30 @@ def set_params(probe, atomically=False, **values):
     return [res.result] if atomically else res.results
 
 
-def rise_time(probe, step=0.01, fraction=0.9):
-    """Measure the simulated time to cover ``fraction`` of a ``step`` along x."""
-    start = probe.ee_pose()
-    target = start.copy()
-    target[:3, 3] += [step, 0.0, 0.0]
-    n0 = len(probe.states)
-    probe.send_target('ee', target, until=probe.moved_towards(target, 1e-4))
-    probe.wait_sim(1.5)
-    states = probe.states[n0:]
-    x = np.array([probe.ee_pose(s[1])[0, 3] - start[0, 3] for s in states])
-    t = np.array([s[0] for s in states])
-    moving = np.flatnonzero(np.abs(x) > 1e-5)[
-        0
-    ]  # the target arrived (first cycle that acts on it)
-    reached = np.flatnonzero(x * np.sign(step) > fraction * abs(step))[0]
-    return t[reached] - t[moving - 1]
+def rise_time(probe, step=0.01, fraction=0.9, tries=5):
+    """
+    Measure the simulated time to cover ``fraction`` of a ``step`` along x.
+
+    From the last state at rest to the first state past ``fraction``, each next to the state
+    before it (1 ms): best-effort states can be lost on a busy machine, and a gap there (once
+    0.1 s) would add to the time. A measurement with a gap at either end is made again, with
+    another step from where the arm is.
+    """
+    for _ in range(tries):
+        start = probe.ee_pose()
+        target = start.copy()
+        target[:3, 3] += [step, 0.0, 0.0]
+        n0 = len(probe.states)
+        probe.send_target('ee', target, until=probe.moved_towards(target, 1e-4))
+        probe.wait_sim(1.5)
+        states = probe.states[n0:]
+        x = np.array([probe.ee_pose(s[1])[0, 3] - start[0, 3] for s in states])
+        t = np.array([s[0] for s in states])
+        moving = np.flatnonzero(np.abs(x) > 1e-5)[0]  # the first cycle that acts on the target
+        reached = np.flatnonzero(x * np.sign(step) > fraction * abs(step))[0]
+        if moving > 0 and max(t[moving] - t[moving - 1], t[reached] - t[reached - 1]) < 1.5e-3:
+            return t[reached] - t[moving - 1]
+    raise AssertionError(f'joint states lost around the step in each of {tries} tries')
 
 
 def test_gain_change_applies_and_bad_changes_are_refused(tmp_path):
