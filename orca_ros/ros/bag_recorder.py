@@ -23,7 +23,7 @@ the bridge publishes ``/clock``), else wall time. The bag is closed on SIGINT / 
 robot (and its limits) in the bag itself.
 
 Receipts: on each topic of ``confirm_topics`` (default: the end effector's target), each distinct
-message is logged once as ``recorded <topic> message <crc32 of its CDR, 8 hex digits>`` (see
+message is logged once as ``recorded <topic> message <crc32 of its fields, 8 hex digits>`` (see
 :func:`receipt`). A sender that must have its message in the bag (the main job's targets: a
 publisher that nothing else waits for may not be matched with the recorder yet when it first
 sends) repeats it until that line is in the recorder's log.
@@ -37,6 +37,7 @@ import sys
 import zlib
 
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.serialization import deserialize_message
 
 from .common import DESCRIPTION_QOS, param, run_node
 from .guarded_node import GuardedNode
@@ -57,9 +58,15 @@ _BEST_EFFORT = QoSProfile(depth=5000, reliability=ReliabilityPolicy.BEST_EFFORT)
 _RELIABLE = QoSProfile(depth=5000, reliability=ReliabilityPolicy.RELIABLE)
 
 
-def receipt(topic: str, data: bytes) -> str:
-    """Return the log line the recorder writes for a message (CDR bytes ``data``) on ``topic``."""
-    return f'recorded {topic} message {zlib.crc32(bytes(data)):08x}'
+def receipt(topic: str, msg) -> str:
+    """
+    Return the log line the recorder writes for a message (an rclpy message) on ``topic``.
+
+    Of the message's fields (their repr: floats exactly), not of its CDR bytes: those hold
+    alignment padding that the serializer leaves as it finds it (rclpy's serialize_message gave
+    bytes of garbage where the wire had zeros), and a sender's receipt must not depend on it.
+    """
+    return f'recorded {topic} message {zlib.crc32(repr(msg).encode()):08x}'
 
 
 def _message_class(type_name: str):
@@ -77,6 +84,7 @@ class BagRecorder(GuardedNode):
         best_effort = set(param(self, 'best_effort_topics', ['/joint_states', '/odom']) or [])
         confirm = set(param(self, 'confirm_topics', DEFAULT_CONFIRM_TOPICS) or [])
         self._receipts: dict[str, set] = {t: set() for t in confirm}
+        self._classes: dict[str, type] = {}
         if os.path.exists(output):
             raise ValueError(f"'{output}' exists: a bag is never overwritten")
         typestore = typesys.get_typestore(typesys.Stores.ROS2_JAZZY)
@@ -101,6 +109,7 @@ class BagRecorder(GuardedNode):
                 else (_BEST_EFFORT if topic in best_effort else _RELIABLE)
             )
             self.counts[topic] = 0
+            self._classes[topic] = cls
             self.create_subscription(
                 cls, topic, lambda data, c=conn, t=topic: self._write(c, t, data), qos, raw=True
             )
@@ -113,7 +122,7 @@ class BagRecorder(GuardedNode):
             self.get_logger().info(f'first message on {topic}')
         seen = self._receipts.get(topic)
         if seen is not None:
-            line = receipt(topic, data)
+            line = receipt(topic, deserialize_message(bytes(data), self._classes[topic]))
             if line not in seen:  # a sender waits for this to know the bag has its message
                 seen.add(line)
                 self.get_logger().info(line)

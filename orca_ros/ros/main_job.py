@@ -72,7 +72,6 @@ def _in_bag(procs, T):
     logs a receipt for each distinct message on the target topic.
     """
     from geometry_msgs.msg import PoseStamped  # noqa: PLC0415
-    from rclpy.serialization import serialize_message  # noqa: PLC0415
 
     from .bag_recorder import receipt  # noqa: PLC0415
     from .common import matrix_to_pose  # noqa: PLC0415
@@ -80,7 +79,7 @@ def _in_bag(procs, T):
     msg = PoseStamped()
     msg.header.frame_id = ''
     matrix_to_pose(T, msg.pose)
-    line = receipt(TARGET_TOPIC, serialize_message(msg))
+    line = receipt(TARGET_TOPIC, msg)
     return lambda: line in procs.log('recorder')
 
 
@@ -141,6 +140,7 @@ def main(argv=None) -> int:
     _launch_robot(procs, args, mode)
     probe = Probe(domain)
     rows, path, ok = [], [], True
+    waiting = {}  # the predicates a target waits for (printed if it times out)
     try:
         # discovery is asynchronous: the run starts once the recorder receives states and
         # commands, so the bag holds it from its first step
@@ -168,6 +168,7 @@ def main(argv=None) -> int:
             # publisher's first messages, on each subscriber separately (under load the recorder
             # once matched the target publisher after the controller did and lost a target)
             moved, in_bag = probe.moved_towards(T), _in_bag(procs, T)
+            waiting = {'the arm moved towards it': moved, 'the recorder has it': in_bag}
             probe.send_target('ee', T, until=lambda: moved() and in_bag())
             settle = _wait_reached(probe, T, args.tolerance, 6.0)
             err = np.linalg.norm(probe.ee_pose()[:3, 3] - T[:3, 3])
@@ -192,7 +193,8 @@ def main(argv=None) -> int:
             last = probe.states[-1][0] if probe.states else None
         print(f'the job saw {n_states} joint states, the last stamped {last}, the newest '
               f'{probe.sim_time()}; end effector there {probe.ee_pose()[:3, 3]}; errors in '
-              f'its callbacks: {probe.spin_errors[:3]}')
+              f'its callbacks: {probe.spin_errors[:3]}; '
+              + ', '.join(f'{what}: {bool(p())}' for what, p in waiting.items()))
         if not args.attach:  # attached, the nodes' logs are the user's
             print(procs.log('controller')[-2000:])
         print(f'node logs: {logs}')
