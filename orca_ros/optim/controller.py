@@ -282,14 +282,7 @@ class Controller(TaskRegistryMixin):
                 obj.update(current_time, dt)
             self._plan.update()
         if cc is not None and cc.steady:  # one level, solved by kernel: no levels to walk
-            levels = self._levels
-            levels.contacts_relaxed = False
-            problem, dropped = cc.problem, False
-            code = cc.solve_first(deadline, self._max_iterations)
-            if code is not _SUCCESS:
-                problem, code, dropped = levels.first_failed(
-                    problem, code, deadline, self._max_iterations
-                )
+            problem, code, dropped = cc.solve_first(self._levels, deadline, self._max_iterations)
         else:
             problem, code, dropped = self._levels.solve(
                 deadline, self._max_iterations, self.priorities, self.name

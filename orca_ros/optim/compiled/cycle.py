@@ -292,14 +292,16 @@ class CompiledCycle:
             # contacts' state (lowered contacts: after a change; else their updates may any time)
             self.assembly.contacts()
 
-    def solve_first(self, deadline, max_iterations) -> ReturnCode:
+    def solve_first(self, levels, deadline, max_iterations):
         """
-        Solve the first and only level by kernel (when ``steady``); its code.
+        Solve the first and only level by kernel (when ``steady``), as ``levels.solve`` returns.
 
         What PriorityLevels.solve and WeightedProblem.solve do for it (the budget, the check of
-        the built problem, the solve, the code kept), without their layers: its H and g are
-        built and the back-end writes the level's x (DirectDAQPBackend.write_into).
+        the built problem, the solve, the code kept, elastic contacts after a failure), without
+        their layers: its H and g are built and the back-end writes the level's x
+        (DirectDAQPBackend.write_into).
         """
+        levels.contacts_relaxed = False
         problem = self.problem
         if problem.built_finite:
             b = problem.backend
@@ -309,7 +311,9 @@ class CompiledCycle:
         else:
             code = ReturnCode.NON_FINITE_PROBLEM
         problem.return_code = code
-        return code
+        if code is not ReturnCode.SUCCESS:
+            return levels.first_failed(problem, code, deadline, max_iterations)
+        return problem, code, False
 
     def finish(self, x, x_out, acc_out, tau, tau_cmd) -> None:
         """Write the controller's solution, accelerations, torques, command and wrenches."""
