@@ -37,6 +37,24 @@ def _random_state(robot, rng, scale=1.0):
     return q, v
 
 
+#: the strategies compared; 'generalized_half': every priority between levels 0.5 (the reference
+#: solve, bands and the banded form; plain 'generalized' has them all 1, strict)
+STRATEGIES = ['one_level_weighted', 'multi_level_weighted', 'generalized', 'generalized_half']
+
+
+def _controller(name, robot, strategy, compiled):
+    return orca.Controller(name, robot, strategy.replace('_half', ''), compiled=compiled)
+
+
+def _half_priorities(c):
+    """Every priority between tasks of different levels 0.5 ('generalized_half')."""
+    tasks = c.get_tasks()
+    for hi in tasks:
+        for lo in tasks:
+            if hi.level < lo.level:
+                c.set_priority(hi.name, lo.name, 0.5)
+
+
 def _make(urdf, frame, compiled, strategy, base_frame=None, lock=None):
     robot = orca.RobotModel()
     robot.load_model_from_file(urdf)
@@ -44,7 +62,7 @@ def _make(urdf, frame, compiled, strategy, base_frame=None, lock=None):
         robot.lock_joints(lock)
     if base_frame:
         robot.set_base_frame(base_frame)
-    c = orca.Controller('c', robot, strategy, compiled=compiled)
+    c = _controller('c', robot, strategy, compiled)
     ee = c.add_task(orca.CartesianTask, 'ee')
     ee.set_control_frame(frame)
     pid = ee.servo_controller().pid()
@@ -65,6 +83,8 @@ def _make(urdf, frame, compiled, strategy, base_frame=None, lock=None):
     c.global_regularisation.set_damping(2.0)
     for obj in c.get_tasks() + c.get_constraints():
         obj.set_ramp_duration(0.05)
+    if strategy == 'generalized_half':
+        _half_priorities(c)
     c.activate_tasks_and_constraints()
     return robot, c, ee, post
 
@@ -83,7 +103,7 @@ CASES = {
 }
 
 
-@pytest.mark.parametrize('strategy', ['one_level_weighted', 'multi_level_weighted', 'generalized'])
+@pytest.mark.parametrize('strategy', STRATEGIES)
 @pytest.mark.parametrize('case', sorted(CASES))
 def test_compiled_equals_reference_on_random_states(case, strategy, example_robot_urdf):
     urdf_of, frame, base, lock = CASES[case]
@@ -210,7 +230,7 @@ def test_log3_is_pinocchios():
     assert worst['near pi'] <= 1e-9, worst
 
 
-@pytest.mark.parametrize('strategy', ['one_level_weighted', 'multi_level_weighted', 'generalized'])
+@pytest.mark.parametrize('strategy', STRATEGIES)
 def test_compiled_equals_reference_on_talos(talos_standing, strategy):
     """
     Floating base, two soles, CoM and posture tasks, torque limits: 500 random states.
@@ -226,7 +246,7 @@ def test_compiled_equals_reference_on_talos(talos_standing, strategy):
     pair = []
     for compiled in (True, False, False):
         robot, q0 = talos_standing()
-        c = orca.Controller('talos', robot, strategy, compiled=compiled)
+        c = _controller('talos', robot, strategy, compiled)
         for f in SOLES:
             c.add_constraint(orca.SurfaceContact(f, f, CORNERS, friction_coefficient=0.3))
         com = c.add_task(orca.CoMTask, 'com')
@@ -234,6 +254,8 @@ def test_compiled_equals_reference_on_talos(talos_standing, strategy):
         post = c.add_task(orca.JointAccelerationTask, 'posture', level=1)
         post.set_weight(1e-3)
         c.add_constraint(orca.JointTorqueLimitConstraint, 'torque')
+        if strategy == 'generalized_half':
+            _half_priorities(c)
         c.activate_tasks_and_constraints()
         pair.append((robot, c, com, post))
     model = pair[0][0].model
@@ -273,7 +295,7 @@ def test_compiled_equals_reference_on_talos(talos_standing, strategy):
     assert worst <= max(1e-9, 10.0 * own), f'torques differ by {worst:.2e}, rounding {own:.1e}'
 
 
-@pytest.mark.parametrize('strategy', ['one_level_weighted', 'multi_level_weighted', 'generalized'])
+@pytest.mark.parametrize('strategy', STRATEGIES)
 def test_compiled_equals_reference_on_the_quadruped(strategy):
     """
     Compare on the quadruped: five Cartesian tasks, contacts switching, a swing task ramping in.
@@ -288,9 +310,11 @@ def test_compiled_equals_reference_on_the_quadruped(strategy):
     pair = []
     for compiled in (True, False, False):
         robot = quad.make_robot()
-        qc = quad.QuadrupedController(robot, strategy=strategy)
+        qc = quad.QuadrupedController(robot, strategy=strategy.replace('_half', ''))
         qc.controller.compiled = compiled
         qc.swing['FL'].set_priority_level(1)
+        if strategy == 'generalized_half':
+            _half_priorities(qc.controller)
         pair.append(qc)
     assert pair[0].controller.compiled and not pair[1].controller.compiled
     model = pair[0].robot.model

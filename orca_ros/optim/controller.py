@@ -281,8 +281,10 @@ class Controller(TaskRegistryMixin):
             for obj in self._updated:
                 obj.update(current_time, dt)
             self._plan.update()
-        if cc is not None and cc.steady:  # one level, solved by kernel: no levels to walk
-            problem, code, dropped = cc.solve_first(self._levels, deadline, self._max_iterations)
+        if cc is not None and cc.steady:  # every level solved by kernel
+            problem, code, dropped = cc.solve(
+                self._levels, deadline, self._max_iterations, self.name
+            )
         else:
             problem, code, dropped = self._levels.solve(
                 deadline, self._max_iterations, self.priorities, self.name

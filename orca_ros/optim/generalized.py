@@ -62,12 +62,14 @@ class GeneralizedPriorities:
 
     def __init__(self):
         self._alpha: dict[tuple[str, str], float] = {}
+        self.version = 0  # counts the changes (the compiled cycle re-reads them on a change)
 
     def set(self, high: str, low: str, value: float) -> None:  # noqa: A003 (ORCA API name)
         value = float(value)
         if not (np.isfinite(value) and 0.0 <= value <= 1.0):
             raise ValueError(f"priority of '{high}' over '{low}' must be in [0, 1], got {value}")
         self._alpha[(high, low)] = value
+        self.version += 1
 
     def get(self, high: str, low: str) -> float:
         return self._alpha.get((high, low), 1.0)
@@ -75,6 +77,7 @@ class GeneralizedPriorities:
     def forget(self, name: str) -> None:
         for key in [k for k in self._alpha if name in k]:
             del self._alpha[key]
+        self.version += 1
 
     def items(self):
         return self._alpha.items()

@@ -90,9 +90,10 @@ class LowerLevelProblem(WeightedProblem):
         # temporal damping per variable, in the solver's units (wrenches in the robot's weight)
         self._damp_w = 1.0 / np.square(scale)
         # temporal damping mu ||x - x_prev||^2 (see set_temporal_damping); x_prev: this level's
-        # solution of the previous cycle
+        # solution of the previous cycle, which x holds while _prev_ok[0] (x is written by the
+        # level's solves only; the compiled cycle's kernels read the flag too)
         self.temporal_damping = 0.0
-        self._x_prev: np.ndarray | None = None
+        self._prev_ok = np.zeros(1, dtype=np.int64)
 
     def set_temporal_damping(self, mu: float) -> None:
         """
@@ -112,7 +113,7 @@ class LowerLevelProblem(WeightedProblem):
             raise ValueError(f'temporal damping must be finite and >= 0, got {mu}')
         self.temporal_damping = mu
         if mu == 0.0:
-            self._x_prev = None
+            self._prev_ok[0] = 0
 
     def backends(self):
         return [self.locked_backend, self.banded_backend]
@@ -156,11 +157,10 @@ class LowerLevelProblem(WeightedProblem):
         if not math.isfinite(self.H.sum() + self.g.sum()):
             self.return_code = ReturnCode.NON_FINITE_PROBLEM
             return self.return_code
-        mu, prev = self.temporal_damping, self._x_prev
-        if prev is None:
-            # first cycle (or after a failure): towards the level above's solution, so that a level
-            # starts from what the robot is already doing instead of jumping to its optimum
-            prev = self.x_ref
+        mu = self.temporal_damping
+        # the first cycle (or after a failure): towards the level above's solution, so that a
+        # level starts from what the robot is already doing instead of jumping to its optimum
+        prev = self.x if self._prev_ok[0] else self.x_ref
         if mu > 0.0:  # + mu ||(x - x_prev) / d||^2 (the solver's units), undone after the solve
             mw = mu * self._damp_w
             self._diag += mw
@@ -181,14 +181,8 @@ class LowerLevelProblem(WeightedProblem):
                 np.add(self.x_ref, dx, out=self.x)
             else:
                 code = ReturnCode.NON_FINITE_SOLUTION
-        if mu > 0.0:
-            if code is ReturnCode.SUCCESS:
-                if self._x_prev is None:
-                    self._x_prev = self.x.copy()
-                else:
-                    self._x_prev[:] = self.x
-            else:
-                self._x_prev = None  # after a failure, start again from the next solution
+        if mu > 0.0:  # after a failure, start again from the next solution
+            self._prev_ok[0] = code is ReturnCode.SUCCESS
         self.return_code = code
         return code
 

@@ -28,7 +28,7 @@ import time
 
 import numpy as np
 
-from . import contacts as ck, cycle_kernel, direct_daqp, fill
+from . import cascade, contacts as ck, cycle_kernel, direct_daqp, fill
 from .lowering import lower, offset_in, Tables
 from .plan_assembly import PlanAssembly
 from .state_kernel import StateKernel
@@ -80,8 +80,11 @@ class CompiledCycle:
         self._bind_wrenches(controller)
         self._bind_data()
         self.solver_in_kernel = self._solve_in_kernel(controller)
-        # one level, solved by kernel: the controller calls solve_first instead of the levels'
-        self.steady = self.solver_in_kernel and len(controller._problems) == 1
+        self.cascade = self._lower_levels(controller)
+        # every level solved by kernel: the controller calls solve instead of the levels'
+        self.steady = self.solver_in_kernel and (
+            len(controller._problems) == 1 or self.cascade is not None
+        )
         # compile (or load) the kernel for this configuration's types, every object off: the
         # arrays it writes are rewritten by the first cycle
         t.tab[:, 1] = 0
@@ -119,6 +122,17 @@ class CompiledCycle:
         b.write_into(problem.x)
         b.compile_for(problem.H, problem.g, plan.M, plan.lo, plan.hi)
         return True
+
+    def _lower_levels(self, controller):
+        """Lower the levels below the first (None: one level, or they cannot be)."""
+        levels = controller._levels
+        if not self.solver_in_kernel or len(levels.problems) == 1:
+            return None
+        why = cascade.unlowered_reason(levels)
+        if why is not None:
+            self.in_python['the levels below the first'] = why
+            return None
+        return cascade.CompiledCascade(self, levels, controller.priorities)
 
     def _lower_contacts(self, controller, plan) -> None:
         """
@@ -284,6 +298,8 @@ class CompiledCycle:
             for low in self.lowered:
                 low.step(t)  # a ramp in progress touches its object: stepped again next cycle
             self.assembly.flags()
+            if self.cascade is not None:
+                self.cascade.flags()
         flags = self._run(self.ws, dt)
         self.plan.box_conflicts += flags & 1
         self.problem.built_finite = not flags & 2
@@ -292,9 +308,15 @@ class CompiledCycle:
             # contacts' state (lowered contacts: after a change; else their updates may any time)
             self.assembly.contacts()
 
+    def solve(self, levels, deadline, max_iterations, name: str):
+        """Solve every level by kernel (when ``steady``), as ``levels.solve`` returns."""
+        if self.cascade is not None:
+            return self.cascade.solve(deadline, max_iterations, name)
+        return self.solve_first(levels, deadline, max_iterations)
+
     def solve_first(self, levels, deadline, max_iterations):
         """
-        Solve the first and only level by kernel (when ``steady``), as ``levels.solve`` returns.
+        Solve the first level by kernel, as ``levels.solve`` returns for it.
 
         What PriorityLevels.solve and WeightedProblem.solve do for it (the budget, the check of
         the built problem, the solve, the code kept, elastic contacts after a failure), without
@@ -339,5 +361,7 @@ class CompiledCycle:
             f'compiled cycle: {len(self.lowered)} of {self.n_objects} objects by kernel'
             + (f'; in Python: {rest}' if rest else '')
             + ('; first level solved by DAQP in the kernel' if self.solver_in_kernel else '')
+            + (f'; the {len(self.cascade.lower)} level(s) below too' if self.cascade
+               else '')
             + f' (kernels ready in {self.compile_seconds:.2f} s)'
         )

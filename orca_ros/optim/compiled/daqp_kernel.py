@@ -82,10 +82,11 @@ UPDATE, SOLVE, WORK, PROBLEM, RESULT = range(5)
 
 #: the solve's arrays (one StructRef argument: ~0.05 us per array argument otherwise); the
 #: level's H, g, M, lo, hi, the scale d (dd = d d^T, inv = 1 / d), DAQP's buffers (scaled
-#: problem, scaled solution xs), the solution x, DAQP's settings and result as int32, and where in
-#: those the iteration limit, the exit flag and the iterations are
+#: problem, scaled solution xs), the solution x (= base + the solver's: base 0 for a first
+#: level, the level above's solution for a level solved for its step), DAQP's settings and
+#: result as int32, and where in those the iteration limit, the exit flag and the iterations are
 FIELDS = ('ptrs', 'H', 'g', 'M', 'lo', 'hi', 'd', 'dd', 'inv', 'Hs', 'gs', 'Ms', 'los', 'his',
-          'xs', 'x', 'settings', 'result', 'cap_at', 'flag_at', 'iter_at')
+          'xs', 'x', 'base', 'settings', 'result', 'cap_at', 'flag_at', 'iter_at')
 
 
 @structref.register
@@ -142,12 +143,12 @@ def solve(s, mask, cap):
     flag = s.result[s.flag_at]
     iters = s.result[s.iter_at]
     if flag > 0:  # x written only when finite: it may be the level's own solution
-        x, xs, d = s.x, s.xs, s.d
+        x, xs, d, base = s.x, s.xs, s.d, s.base
         total = 0.0
         for a in range(x.shape[0]):
             total += xs[a] * d[a]
         if not math.isfinite(total):
             return -100, iters
         for a in range(x.shape[0]):
-            x[a] = xs[a] * d[a]
+            x[a] = base[a] + xs[a] * d[a]
     return flag, iters

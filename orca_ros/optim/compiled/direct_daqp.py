@@ -78,7 +78,7 @@ class DirectDAQPBackend(QPBackend):
             'd': d, 'dd': np.outer(d, d), 'inv': 1.0 / d,
             'Hs': np.zeros((nx, nx)), 'gs': np.zeros(nx), 'Ms': np.zeros((m, nx)),
             'los': np.zeros(nx + m), 'his': np.zeros(nx + m), 'xs': np.zeros(nx),
-            'x': np.zeros(nx),
+            'x': np.zeros(nx), 'base': np.zeros(nx),
             'settings': self._sbuf.view(np.int32), 'result': self._rbuf.view(np.int32),
             'cap_at': daqp_c.Settings.iter_limit.offset // 4,
             'flag_at': daqp_c.Result.exitflag.offset // 4,
@@ -100,14 +100,17 @@ class DirectDAQPBackend(QPBackend):
         self._solve = entry(K.solve, self._state, 0, 0)
         self._bound = None  # the level's arrays the state holds (bind)
 
-    def write_into(self, x: np.ndarray) -> None:
+    def write_into(self, x: np.ndarray, base: np.ndarray | None = None) -> None:
         """
         Write the solution into ``x`` (the level's own, float64 of size nx) from now on.
 
         The kernel writes it only when it is finite (else the solve fails, x untouched): the
-        level neither checks nor copies it again (WeightedProblem.solve).
+        level neither checks nor copies it again (WeightedProblem.solve). With ``base``, x is
+        base + the solution (a level solved for its step from the solution above).
         """
         self._arrays['x'] = self.x = x
+        if base is not None:
+            self._arrays['base'] = base
         self._state = K.SolveState(*(self._arrays[f] for f in K.FIELDS))
         self._solve = entry(K.solve, self._state, 0, 0)
 
@@ -157,6 +160,10 @@ class DirectDAQPBackend(QPBackend):
     def _run(self, mask: int, cap: int) -> ReturnCode:
         t0 = time.perf_counter()
         flag, iters = self._solve(self._state, mask, cap)
+        return self._ran(flag, iters, t0)
+
+    def _ran(self, flag: int, iters: int, t0: float) -> ReturnCode:
+        """Return the code of a solve started at t0 (the time model updated, reset on failure)."""
         self.iterations = iters
         self.record(time.perf_counter() - t0, iters)
         if flag == 1:
@@ -192,6 +199,31 @@ class DirectDAQPBackend(QPBackend):
         code = self._run(daqp_c.UPDATE_ALL, cap)
         if code is not ReturnCode.SUCCESS and self.iterations < cap:
             code = self._cold(cap - self.iterations)  # once more, cold
+        return code
+
+    def solve_prepared(self, fused, pre, prepared: int):
+        """
+        Solve after a kernel that writes the bound arrays: ``fused(pre, state, mask, cap)``.
+
+        It prepares, then solves as the solve kernel does (one call when warm); with mask < 0
+        it only prepares (before a cold set-up), returning ``prepared`` when it did. Returns the
+        ReturnCode, or the preparation's flag (an int below ``prepared``) when it did not solve.
+        """
+        t0 = time.perf_counter()  # the solve's time includes the cap's (a model erring high)
+        cap = self.iteration_cap(t0)
+        if not self._set_up:
+            flag = fused(pre, self._state, -1, cap)[0]
+            return flag if flag != prepared else self._cold(cap)
+        flag, iters = fused(pre, self._state, daqp_c.UPDATE_ALL, cap)
+        if flag == 1:
+            self.iterations = iters
+            self.record(time.perf_counter() - t0, iters)
+            return ReturnCode.SUCCESS
+        if flag < prepared:
+            return flag
+        code = self._ran(flag, iters, t0)
+        if code is not ReturnCode.SUCCESS and iters < cap:
+            code = self._cold(cap - iters)  # once more, cold
         return code
 
     def solve(self, H, g, A, b, C, lc, u, lbox, ubox) -> ReturnCode:

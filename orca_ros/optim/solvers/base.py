@@ -98,11 +98,17 @@ class QPBackend:
         self._fixed = 0.0  # seconds of a solve of one or two iterations
         self._per = 0.0  # seconds per further iteration
 
-    def iteration_cap(self) -> int:
-        """Return the iterations allowed to the next solve (see the module's docstring)."""
+    def iteration_cap(self, now: float | None = None) -> int:
+        """
+        Return the iterations allowed to the next solve (see the module's docstring).
+
+        ``now``: the time.perf_counter() instant, when the caller has it.
+        """
         cap = self.max_iterations
         if self.deadline is not None and self._fixed > 0.0:
-            left = _TIME_SHARE * (self.deadline - time.perf_counter()) - self._fixed
+            if now is None:
+                now = time.perf_counter()
+            left = _TIME_SHARE * (self.deadline - now) - self._fixed
             per = self._per if self._per > 0.0 else self._fixed
             cap = min(cap, max(self.min_iterations, 1 + int(left / per)))
         return cap

@@ -1,0 +1,250 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+The levels below the first by kernel: ``PriorityLevels.solve`` without its Python layers.
+
+Made by the compiled cycle when its first level is solved by kernel and DAQP solves the levels
+below (MULTI_LEVEL_WEIGHTED and GENERALIZED): per level, one kernel writes its problem
+(:mod:`.lower_level`) and, strict, solves it by DAQP's C solve (:mod:`.direct_daqp`) in the same
+call. A GENERALIZED level with a priority below 1 solves its weighted reference, then its banded
+form (:func:`.lower_level.bands`), each by kernel. A level whose locks are being released by a
+ramp (a locked task ramping in or out: the banded form of ``LowerLevelProblem.lock``) is solved by
+its own Python objects that cycle, as on the reference path. A level that fails is dropped for the
+cycle, said in the debug log, as there.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import direct_daqp, lower_level as L
+from ..solvers import ReturnCode
+from ...utils.jit import entry
+from ...utils.logger import get_logger
+
+_LOG = get_logger('optim')
+_SUCCESS = ReturnCode.SUCCESS
+_NOTHING = object()  # a level without weighted tasks this cycle
+_STRICT = object()  # a level whose locks are all strict this cycle
+
+
+def unlowered_reason(levels) -> str | None:
+    """Why the levels below the first cannot be solved by kernel (None: they can)."""
+    for p in levels.problems[1:]:
+        if p._null_space is not None:
+            return 'a solver other than DAQP'
+        for t in p.locked:
+            cols = t.diagonal_columns
+            if cols is None:
+                continue
+            expected = np.zeros_like(t.E)
+            expected[np.arange(t.rows()), np.arange(cols.start, cols.stop)] = 1.0
+            if not np.array_equal(t.E, expected):
+                return f"task '{t.name}' selects its variables with other than ones"
+    return None
+
+
+def _direct(nx, n_eq, n_in, scale, arrays, x, base=None):
+    """Make a DAQP back-end by kernel on (H, g, M, lo, hi) writing x (base + its step)."""
+    b = direct_daqp.DirectDAQPBackend(nx, n_eq, n_in, scale=scale)
+    b.write_into(x, base)
+    b.compile_for(*arrays)
+    return b
+
+
+class _Level:
+    """One level below the first: its problem, its kernel state, its DAQP back-ends by kernel."""
+
+    def __init__(self, plan, assembly, levels, index):
+        self.problem = p = levels.problems[index]
+        self.tasks = levels.level_tasks[index]
+        reference = levels.references[index]
+        lay = plan.layout
+        nx, scale = lay.nx, lay.variable_scale
+        dense = {id(t): i for i, t in enumerate(plan.tasks)}
+        diag = {id(t): i for i, t in enumerate(plan.diagonal_tasks)}
+        locks = []
+        for t in p.locked:
+            if id(t) in dense:
+                k = dense[id(t)]
+                locks.append([0, plan.task_rows[k].start, t.rows(), 0, k])
+            else:
+                k = diag[id(t)]
+                locks.append([1, plan.diagonal_rows[k].start, t.rows(),
+                              t.diagonal_columns.start, k])
+        own_dg = list(plan.diagonal[index])
+        # the cost: the level's rows (strict), or every level's down to it (GENERALIZED)
+        rows, cost_dg = plan.level_rows[index], own_dg
+        if reference is not None:
+            rows = plan.prefix_rows[index]
+            cost_dg = [t for d in plan.diagonal[:index] for t in d] + own_dg
+        i64 = np.int64
+        nl, nc, ni = p.lock_rows(), p.n_eq_constraints, p.n_in
+        self.mu = np.zeros(1)
+        self.Hd, self.g2 = np.zeros((nx, nx)), np.zeros(nx)
+        self.keep, self.ref_x, self.band = np.zeros(nl), np.zeros(nx), np.zeros(nl)
+        self.Mb = np.zeros((nc + ni + nl, nx))
+        self.lob, self.hib = np.zeros(nx + nc + ni + nl), np.zeros(nx + nc + ni + nl)
+        self.state = L.LevelState(
+            plan.E, plan.f, plan.w, plan.sel, assembly.ew, plan.diag_sel, plan.diag_ws,
+            plan.diag_wsf, assembly.dg_ew, assembly.dg_tab, plan.M, plan.lo, plan.hi,
+            np.array([0] + [diag[id(t)] for t in cost_dg], dtype=i64),
+            np.array([dense[id(t)] for t in self.tasks if id(t) in dense], dtype=i64),
+            np.array([diag[id(t)] for t in own_dg], dtype=i64),
+            np.array(locks, dtype=i64).reshape(-1, 5), rows.start, rows.stop,
+            p.H, p.g, p._M, p.b, p._lo, p._hi, levels.problems[index - 1].x, p.x_ref, p.x,
+            p._prev_ok, p._damp_w, self.mu, self.Hd, self.g2, nc, ni, nx,
+            self.keep, self.ref_x, self.band, self.Mb, self.lob, self.hib,
+        )
+        p.locked_backend = b = _direct(
+            nx, p.n_eq, ni, scale, (self.Hd, self.g2, p._M, p._lo, p._hi), p.x, p.x_ref
+        )
+        # compiled (or loaded) here, not in a cycle: prepare, then solve, in one call when warm
+        self.fused = entry(L.prepare_and_solve, self.state, b._state, -1, 0)
+        self.fused(self.state, b._state, -1, 0)
+        self.reference = self.banded = None
+        if reference is not None:  # its weighted reference (the level's cost, no locks); banded
+            self.reference = _direct(
+                nx, plan.n_eq, ni, scale, (p.H, p.g, plan.M, plan.lo, plan.hi), self.ref_x
+            )
+            self.banded = _direct(
+                nx, nc, ni + nl, scale, (self.Hd, self.g2, self.Mb, self.lob, self.hib), p.x,
+                p.x_ref,
+            )
+            self.bands = entry(L.bands, self.state)
+            self.bands(self.state)
+        self.releasing = False  # a locked task is ramping: the level is solved in Python
+        self.open = False  # some priority below 1: bands from the reference
+
+    def flags(self) -> None:
+        self.releasing = any(
+            0.0 < t._ramp_factor < 1.0 and t.get_effective_weight() > 0.0
+            for t in self.problem.locked
+        )
+
+    def read_priorities(self, priorities) -> None:
+        """1 - alpha per lock row (GENERALIZED; alpha = 1, strict, otherwise)."""
+        k = 0
+        for t in self.problem.locked:
+            m = t.rows()
+            alpha = priorities.level_priority(t, self.tasks) if self.banded else 1.0
+            self.keep[k: k + m] = 1.0 - alpha
+            k += m
+        self.open = bool(np.any(self.keep > 0.0))
+
+
+class CompiledCascade:
+    def __init__(self, cycle, levels, priorities):
+        self.cycle, self.levels, self.priorities = cycle, levels, priorities
+        plan, asm = cycle.plan, cycle.assembly
+        self.lower = [_Level(plan, asm, levels, i) for i in range(1, len(levels.problems))]
+        self._version = None  # of the priorities last read
+
+    def flags(self) -> None:
+        """After the objects' steps of a full pass: which levels release locks this cycle."""
+        for lev in self.lower:
+            lev.flags()
+
+    def solve(self, deadline, max_iterations, name: str):
+        """Solve every level in priority order, as ``PriorityLevels.solve`` returns."""
+        solved, code, dropped = self.cycle.solve_first(self.levels, deadline, max_iterations)
+        if code is not _SUCCESS:
+            return solved, code, dropped
+        if self.priorities.version != self._version:
+            for lev in self.lower:
+                lev.read_priorities(self.priorities)
+            self._version = self.priorities.version
+        for i, lev in enumerate(self.lower):
+            code = None
+            if lev.releasing:
+                code = self._releasing(i + 1, solved.x, deadline, max_iterations)
+            if code is None or code is _STRICT:
+                code = self._by_kernel(lev, deadline, max_iterations, code is _STRICT)
+            if code is _NOTHING:
+                continue  # nothing to optimise here: the solution above stands
+            if code is not _SUCCESS:
+                _LOG.debug(
+                    "controller '%s': level %d not solved (%s), keeping level %d's solution",
+                    name, lev.problem.level, code.value, solved.level,
+                )
+                return solved, _SUCCESS, True
+            solved = lev.problem
+        return solved, _SUCCESS, False
+
+    @staticmethod
+    def _by_kernel(lev, deadline, max_iterations, strict=False):
+        """
+        Solve the level by kernel: prepared and solved (strict) in one call, or by its bands.
+
+        ``strict``: without bands, whatever the priorities (the reference path found none).
+        """
+        p = lev.problem
+        mu = p.temporal_damping
+        lev.mu[0] = mu
+        b = p.locked_backend
+        b.deadline = deadline
+        b.max_iterations = max_iterations or b.default_max_iterations
+        p.band = None
+        if lev.open and not strict:
+            code = lev.fused(lev.state, b._state, -1, 0)[0]  # prepare only
+            if code == L.PREPARED:
+                code = CompiledCascade._generalized(lev, deadline, max_iterations)
+        else:
+            code = b.solve_prepared(lev.fused, lev.state, L.PREPARED)
+        if code == L.PREPARED - L.NOTHING_TO_DO:
+            return _NOTHING
+        if code == L.PREPARED - L.NON_FINITE:
+            code = ReturnCode.NON_FINITE_PROBLEM
+        elif mu > 0.0:  # after a failure, the next solve is damped towards x_ref
+            p._prev_ok[0] = code is _SUCCESS
+        p.return_code = code
+        return code
+
+    @staticmethod
+    def _generalized(lev, deadline, max_iterations):
+        """
+        Solve a prepared GENERALIZED level: its weighted reference, then its banded form.
+
+        The strict form when the reference fails or leaves no band open (as
+        ``GeneralizedPriorities.bands`` returns None then).
+        """
+        ref, banded = lev.reference, lev.banded
+        for back in (ref, banded):
+            back.deadline = deadline
+            back.max_iterations = max_iterations or back.default_max_iterations
+        if ref.solve_bound() is _SUCCESS and lev.bands(lev.state):
+            lev.problem.band = lev.band
+            return banded.solve_bound()
+        return lev.problem.locked_backend.solve_bound()
+
+    def _releasing(self, i, x_above, deadline, max_iterations):
+        """
+        Solve level i, with a lock being released, by its Python objects (the banded form).
+
+        _STRICT when no band is left (the kernel's strict form solves it).
+        """
+        levels = self.levels
+        p, tasks, ref = levels.problems[i], levels.level_tasks[i], levels.references[i]
+        if not any(t.get_effective_weight() > 0.0 for t in tasks):
+            return _NOTHING
+        band = None
+        if ref is not None:
+            ref.set_budget(deadline, max_iterations)
+            band = self.priorities.bands(p, tasks, ref, x_above)
+        p.lock(x_above, band)
+        if p.band is None:
+            return _STRICT
+        p.build()
+        p.set_budget(deadline, max_iterations)
+        return p.solve()

@@ -1,0 +1,238 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+A priority level's problem by kernel: what ``LowerLevelProblem`` lock, build and solve set up.
+
+For a level below the first (:mod:`orca_ros.optim.lower_level_problem`), solved for its step
+z = x - x_ref from the solution x_ref of the level above, in DAQP's stacked layout: its Hessian and
+gradient from its rows of the plan (written by the cycle's kernel), the lock rows (the locked
+tasks' selected rows, equalities z-wise), the constraints' rows and their bounds relaxed around
+x_ref, the temporal damping. :func:`prepare` writes all of it in place; DAQP's C solve by kernel
+(:mod:`.direct_daqp`) then writes x = x_ref + z into the level's own x. A GENERALIZED level
+(:mod:`orca_ros.optim.generalized`) has the same cost as its weighted reference: once that is
+solved, :func:`bands` turns its lock rows into bands and writes the banded form.
+
+Tables (made by :class:`~orca_ros.optim.compiled.cascade.CompiledCascade` at configuration):
+``cdiag`` the diagonal tasks of the level's cost (rows of the plan's diagonal table), ``own`` and
+``own_dg`` the level's own tasks (dense, diagonal: where their effective weights are), ``locks``
+one row per locked task (:data:`L_KIND` 0 dense rows of the plan, 1 diagonal; its first row, rows,
+first column, where its effective weight is).
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import types
+from numba.experimental import structref
+
+from . import daqp_kernel as K
+from ...utils.jit import njit
+
+L_KIND, L_ROW, L_N, L_COL, L_W = range(5)
+#: prepare's outcomes; prepare_and_solve's flag for them, when it did not solve: PREPARED - outcome
+READY, NON_FINITE, NOTHING_TO_DO = 0, 1, 2
+PREPARED = -200
+#: room left to the step (LowerLevelProblem's _ROOM_TOL)
+ROOM_TOL = 1e-6
+
+FIELDS = (
+    # the plan's arrays (rows, weights, diagonal tasks, constraints)
+    'E', 'f', 'w', 'sel', 'ew', 'dg_sel', 'dg_ws', 'dg_wsf', 'dg_ew', 'dg_tab', 'pM', 'plo',
+    'phi',
+    # the level's tables and cost rows [r0, r1)
+    'cdiag', 'own', 'own_dg', 'locks', 'r0', 'r1',
+    # the level's problem (LowerLevelProblem's arrays): H, g, M = [A_eq; locks; C], b, lo, hi
+    'H', 'g', 'M', 'b', 'lo', 'hi', 'x_above', 'x_ref', 'x', 'prev_ok', 'damp_w', 'mu',
+    # what the solver reads: the damped Hessian and the gradient at x_ref
+    'Hd', 'g2', 'nc', 'ni', 'nx',
+    # GENERALIZED: 1 - alpha per lock row, the weighted reference's solution, the bands, and the
+    # banded form in DAQP's layout: M = [A_eq; C; locks], lo = [lbox'; 0; l'; -band], hi
+    'keep', 'ref_x', 'band', 'Mb', 'lob', 'hib',
+)
+
+
+@structref.register
+class LevelStateType(types.StructRef):
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(t)) for name, t in fields)
+
+
+class LevelState(structref.StructRefProxy):
+    """The arrays of one strict level's problem by kernel (fields: :data:`FIELDS`)."""
+
+
+structref.define_proxy(LevelState, LevelStateType, list(FIELDS))
+
+
+@njit
+def _relax(lo, hi, value, out_lo, out_hi, k):
+    """Bounds on the step: the room left around ``value``, less ROOM_TOL, never excluding 0."""
+    a = lo - value + ROOM_TOL
+    b = hi - value - ROOM_TOL
+    out_lo[k] = a if a < 0.0 else 0.0
+    out_hi[k] = b if b > 0.0 else 0.0
+
+
+@njit
+def prepare(s):
+    """Write the level's problem for this cycle; return READY, NON_FINITE or NOTHING_TO_DO."""
+    ew, dg_ew = s.ew, s.dg_ew
+    weighted = False
+    for k in range(s.own.shape[0]):
+        weighted = weighted or ew[s.own[k]] > 0.0
+    for k in range(s.own_dg.shape[0]):
+        weighted = weighted or dg_ew[s.own_dg[k]] > 0.0
+    if not weighted:
+        return NOTHING_TO_DO  # the solution above stands
+    nx, nc, ni = s.nx, s.nc, s.ni
+    E, f, w, H, g = s.E, s.f, s.w, s.H, s.g
+    # cost: H = E^T W E + diag(ws), g = -E^T W f - wsf over the level's rows
+    H[:, :] = 0.0
+    g[:] = 0.0
+    for r in range(s.r0, s.r1):
+        wr = w[r]
+        if wr == 0.0:
+            continue
+        for a in range(nx):
+            wa = wr * E[r, a]
+            if wa == 0.0:
+                continue
+            g[a] -= wa * f[r]
+            for b in range(nx):
+                H[a, b] += wa * E[r, b]
+    for k in range(s.cdiag.shape[0]):
+        d = s.cdiag[k]
+        r0, n, c0 = s.dg_tab[d, 0], s.dg_tab[d, 1], s.dg_tab[d, 2]
+        for i in range(n):
+            H[c0 + i, c0 + i] += s.dg_ws[r0 + i]
+            g[c0 + i] -= s.dg_wsf[r0 + i]
+    total = 0.0
+    for a in range(nx):
+        total += g[a]
+        for b in range(nx):
+            total += H[a, b]
+    if not math.isfinite(total):
+        return NON_FINITE
+    # equalities: the constraints' as they are (x_above meets them), then the locks
+    M, b, pM, plo, x_above, x_ref = s.M, s.b, s.pM, s.plo, s.x_above, s.x_ref
+    for a in range(nx):
+        x_ref[a] = x_above[a]
+    for i in range(nc):
+        for a in range(nx):
+            M[i, a] = pM[i, a]
+        b[i] = plo[nx + i]
+    row = nc
+    for k in range(s.locks.shape[0]):
+        kind, r0, n, c0 = s.locks[k, L_KIND], s.locks[k, L_ROW], s.locks[k, L_N], s.locks[k, L_COL]
+        on = (ew[s.locks[k, L_W]] if kind == 0 else dg_ew[s.locks[k, L_W]]) > 0.0
+        for i in range(n):
+            v = 0.0
+            for a in range(nx):
+                if not on:
+                    e = 0.0
+                elif kind == 0:
+                    e = E[r0 + i, a] * s.sel[r0 + i]
+                else:
+                    e = s.dg_sel[r0 + i] if a == c0 + i else 0.0
+                M[row + i, a] = e
+                v += e * x_above[a]
+            b[row + i] = v
+        row += n
+    ne = row
+    # inequalities and bounds: relaxed around x_ref
+    lo, hi, phi = s.lo, s.hi, s.phi
+    for i in range(ni):
+        v = 0.0
+        for a in range(nx):
+            c = pM[nc + i, a]
+            M[ne + i, a] = c
+            v += c * x_ref[a]
+        _relax(plo[nx + nc + i], phi[nx + nc + i], v, lo, hi, nx + ne + i)
+    for i in range(ne):
+        lo[nx + i] = 0.0
+        hi[nx + i] = 0.0
+    for a in range(nx):
+        _relax(plo[a], phi[a], x_ref[a], lo, hi, a)
+    # the solver's Hessian and gradient at x_ref, damped towards the last solution (or x_ref)
+    Hd, g2, mu = s.Hd, s.g2, s.mu[0]
+    prev = s.x if s.prev_ok[0] else x_ref
+    for a in range(nx):
+        mw = mu * s.damp_w[a] if mu > 0.0 else 0.0
+        v = g[a] - mw * prev[a]
+        for c in range(nx):
+            h = H[a, c] + (mw if a == c else 0.0)
+            Hd[a, c] = h
+            v += h * x_ref[c]
+        g2[a] = v
+    return READY
+
+
+@njit
+def prepare_and_solve(s, solve_state, mask, cap):
+    """
+    Prepare the level, then solve it as :func:`.daqp_kernel.solve` does (one call per cycle).
+
+    Returns its (flag, iterations); when not solved, (PREPARED - prepare's outcome, 0): always
+    with ``mask`` < 0 (prepare only, before a cold set-up).
+    """
+    ready = prepare(s)
+    if ready != READY or mask < 0:
+        return PREPARED - ready, 0
+    return K.solve(solve_state, mask, cap)
+
+
+@njit
+def bands(s):
+    """
+    Bands of the lock rows from the reference's solution; the banded form when one is open.
+
+    band = (1 - alpha) |lock row . (x_w - x_above)| (a switched-off task's rows are zero);
+    returns how many bands are open (0: the strict form stands, as for the reference path's
+    band None).
+    """
+    nx, nc, ni = s.nx, s.nc, s.ni
+    M, x_above, ref_x, keep, band = s.M, s.x_above, s.ref_x, s.keep, s.band
+    nl = band.shape[0]
+    ne = nc + nl
+    n_open = 0
+    for j in range(nl):
+        v = 0.0
+        for a in range(nx):
+            v += M[nc + j, a] * (ref_x[a] - x_above[a])
+        band[j] = keep[j] * abs(v)
+        if band[j] > 0.0:
+            n_open += 1
+    if n_open == 0:
+        return 0
+    Mb, lob, hib, lo, hi = s.Mb, s.lob, s.hib, s.lo, s.hi
+    for i in range(nc):
+        for a in range(nx):
+            Mb[i, a] = M[i, a]
+        lob[nx + i] = 0.0
+        hib[nx + i] = 0.0
+    for i in range(ni):
+        for a in range(nx):
+            Mb[nc + i, a] = M[ne + i, a]
+        lob[nx + nc + i] = lo[nx + ne + i]
+        hib[nx + nc + i] = hi[nx + ne + i]
+    for j in range(nl):
+        for a in range(nx):
+            Mb[nc + ni + j, a] = M[nc + j, a]
+        lob[nx + nc + ni + j] = -band[j]
+        hib[nx + nc + ni + j] = band[j]
+    for a in range(nx):
+        lob[a] = lo[a]
+        hib[a] = hi[a]
+    return n_open
