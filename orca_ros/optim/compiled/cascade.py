@@ -26,6 +26,8 @@ cycle, said in the debug log, as there.
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from . import direct_daqp, lower_level as L
@@ -63,10 +65,18 @@ def _direct(nx, n_eq, n_in, scale, arrays, x, base=None):
     return b
 
 
+def _budget(back, deadline, max_iterations):
+    """Give a back-end this cycle's deadline and iteration cap; return it."""
+    back.deadline = deadline
+    back.max_iterations = max_iterations or back.default_max_iterations
+    return back
+
+
 class _Level:
     """One level below the first: its problem, its kernel state, its DAQP back-ends by kernel."""
 
     def __init__(self, plan, assembly, levels, index):
+        self.index = index
         self.problem = p = levels.problems[index]
         self.tasks = levels.level_tasks[index]
         reference = levels.references[index]
@@ -124,6 +134,10 @@ class _Level:
             )
             self.bands = entry(L.bands, self.state)
             self.bands(self.state)
+            self.fused_gen = entry(
+                L.prepare_and_solve_generalized, self.state, self.reference._state,
+                self.banded._state, b._state, 0,
+            )
         self.releasing = False  # a locked task is ramping: the level is solved in Python
         self.open = False  # some priority below 1: bands from the reference
 
@@ -165,12 +179,11 @@ class CompiledCascade:
             for lev in self.lower:
                 lev.read_priorities(self.priorities)
             self._version = self.priorities.version
-        for i, lev in enumerate(self.lower):
-            code = None
-            if lev.releasing:
-                code = self._releasing(i + 1, solved.x, deadline, max_iterations)
+        for lev in self.lower:
+            code = self._releasing(lev, solved.x, deadline, max_iterations) \
+                if lev.releasing else None
             if code is None or code is _STRICT:
-                code = self._by_kernel(lev, deadline, max_iterations, code is _STRICT)
+                code = self._by_kernel(lev, deadline, max_iterations, code is None)
             if code is _NOTHING:
                 continue  # nothing to optimise here: the solution above stands
             if code is not _SUCCESS:
@@ -183,28 +196,24 @@ class CompiledCascade:
         return solved, _SUCCESS, False
 
     @staticmethod
-    def _by_kernel(lev, deadline, max_iterations, strict=False):
+    def _by_kernel(lev, deadline, max_iterations, banded: bool):
         """
-        Solve the level by kernel: prepared and solved (strict) in one call, or by its bands.
+        Solve the level by kernel: prepared and solved in one call (strict), or by its bands.
 
-        ``strict``: without bands, whatever the priorities (the reference path found none).
+        ``banded`` False: strict whatever the priorities (the reference path found no band).
         """
         p = lev.problem
         mu = p.temporal_damping
         lev.mu[0] = mu
-        b = p.locked_backend
-        b.deadline = deadline
-        b.max_iterations = max_iterations or b.default_max_iterations
         p.band = None
-        if lev.open and not strict:
-            code = lev.fused(lev.state, b._state, -1, 0)[0]  # prepare only
-            if code == L.PREPARED:
-                code = CompiledCascade._generalized(lev, deadline, max_iterations)
+        if banded and lev.open:
+            code = CompiledCascade._generalized(lev, deadline, max_iterations)
         else:
+            b = _budget(p.locked_backend, deadline, max_iterations)
             code = b.solve_prepared(lev.fused, lev.state, L.PREPARED)
-        if code == L.PREPARED - L.NOTHING_TO_DO:
-            return _NOTHING
-        if code == L.PREPARED - L.NON_FINITE:
+        if code.__class__ is int:  # not prepared
+            if code == L.PREPARED - L.NOTHING_TO_DO:
+                return _NOTHING
             code = ReturnCode.NON_FINITE_PROBLEM
         elif mu > 0.0:  # after a failure, the next solve is damped towards x_ref
             p._prev_ok[0] = code is _SUCCESS
@@ -214,27 +223,57 @@ class CompiledCascade:
     @staticmethod
     def _generalized(lev, deadline, max_iterations):
         """
-        Solve a prepared GENERALIZED level: its weighted reference, then its banded form.
+        Solve a GENERALIZED level: its weighted reference, then its banded form.
 
         The strict form when the reference fails or leaves no band open (as
-        ``GeneralizedPriorities.bands`` returns None then).
+        ``GeneralizedPriorities.bands`` returns None then). One kernel call when every solve is
+        warm (the time model of the reference's back-end takes the call's time and
+        iterations); else, from the solve that did not run warm, one solve at a time.
         """
-        ref, banded = lev.reference, lev.banded
-        for back in (ref, banded):
-            back.deadline = deadline
-            back.max_iterations = max_iterations or back.default_max_iterations
-        if ref.solve_bound() is _SUCCESS and lev.bands(lev.state):
-            lev.problem.band = lev.band
-            return banded.solve_bound()
-        return lev.problem.locked_backend.solve_bound()
+        p = lev.problem
+        ref = _budget(lev.reference, deadline, max_iterations)
+        banded, strict = lev.banded, p.locked_backend
+        t0 = time.perf_counter()
+        cap = ref.iteration_cap(t0)
+        flag, it_ref, it, stage = lev.fused_gen(
+            lev.state, ref._state, banded._state, strict._state, cap
+        )
+        if stage == L.S_BANDED:
+            p.band = lev.band
+        if flag > 0:  # the last solve succeeded
+            ref.iterations = it_ref
+            (banded if stage == L.S_BANDED else strict).iterations = it
+            ref.record(time.perf_counter() - t0, it_ref + it)
+            return _SUCCESS
+        if stage == L.S_PREPARED:
+            return flag
+        if stage == L.S_REFERENCE:  # one solve at a time from the reference
+            if flag == 0:
+                code = ref.solve_bound()  # set up, cold
+            else:
+                code = ref._ran(flag, it_ref, t0)
+                if code is not _SUCCESS and it_ref < cap:
+                    code = ref._cold(cap - it_ref)  # once more, cold
+            if code is _SUCCESS and lev.bands(lev.state):
+                p.band = lev.band
+                return _budget(banded, deadline, max_iterations).solve_bound()
+            return _budget(strict, deadline, max_iterations).solve_bound()
+        back = _budget(banded if stage == L.S_BANDED else strict, deadline, max_iterations)
+        ref.iterations = it_ref
+        if flag == 0:
+            return back.solve_bound()  # set up, cold
+        code = back._ran(flag, it, t0)
+        if code is not _SUCCESS and it < cap:
+            code = back._cold(cap - it)  # once more, cold
+        return code
 
-    def _releasing(self, i, x_above, deadline, max_iterations):
+    def _releasing(self, lev, x_above, deadline, max_iterations):
         """
-        Solve level i, with a lock being released, by its Python objects (the banded form).
+        Solve a level, with a lock being released, by its Python objects (the banded form).
 
         _STRICT when no band is left (the kernel's strict form solves it).
         """
-        levels = self.levels
+        levels, i = self.levels, lev.index
         p, tasks, ref = levels.problems[i], levels.level_tasks[i], levels.references[i]
         if not any(t.get_effective_weight() > 0.0 for t in tasks):
             return _NOTHING

@@ -38,6 +38,7 @@ from numba import types
 from numba.experimental import structref
 
 from . import daqp_kernel as K
+from .daqp_c import UPDATE_ALL
 from ...utils.jit import njit
 
 L_KIND, L_ROW, L_N, L_COL, L_W = range(5)
@@ -236,3 +237,31 @@ def bands(s):
         lob[a] = lo[a]
         hib[a] = hi[a]
     return n_open
+
+
+#: prepare_and_solve_generalized's stages: not prepared, the reference not solved, the banded
+#: form solved, the strict form solved (no band open)
+S_PREPARED, S_REFERENCE, S_BANDED, S_STRICT = range(4)
+
+
+@njit
+def prepare_and_solve_generalized(s, ref, banded, strict, cap):
+    """
+    Prepare a GENERALIZED level, solve its reference, then its banded (or strict) form.
+
+    One call when every solve is warm. Returns (flag, the reference's iterations, the last
+    solve's iterations, stage): S_PREPARED with PREPARED - prepare's outcome when it is not
+    ready; S_REFERENCE with the reference's flag when it did not solve (0: DAQP not set up);
+    S_BANDED or S_STRICT with that solve's flag (0: not set up), the reference solved.
+    """
+    ready = prepare(s)
+    if ready != READY:
+        return PREPARED - ready, 0, 0, S_PREPARED
+    flag, it_ref = K.solve(ref, UPDATE_ALL, cap)
+    if flag <= 0:
+        return flag, it_ref, 0, S_REFERENCE
+    if bands(s) > 0:
+        flag, it = K.solve(banded, UPDATE_ALL, cap)
+        return flag, it_ref, it, S_BANDED
+    flag, it = K.solve(strict, UPDATE_ALL, cap)
+    return flag, it_ref, it, S_STRICT

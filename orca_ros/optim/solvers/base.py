@@ -104,14 +104,17 @@ class QPBackend:
 
         ``now``: the time.perf_counter() instant, when the caller has it.
         """
-        cap = self.max_iterations
-        if self.deadline is not None and self._fixed > 0.0:
-            if now is None:
-                now = time.perf_counter()
-            left = _TIME_SHARE * (self.deadline - now) - self._fixed
-            per = self._per if self._per > 0.0 else self._fixed
-            cap = min(cap, max(self.min_iterations, 1 + int(left / per)))
-        return cap
+        cap, deadline, fixed = self.max_iterations, self.deadline, self._fixed
+        if deadline is None or fixed <= 0.0:
+            return cap
+        if now is None:
+            now = time.perf_counter()
+        per = self._per or fixed
+        n = (_TIME_SHARE * (deadline - now) - fixed) / per  # the further iterations that fit
+        # min(cap, max(min_iterations, 1 + int(n))), in the control cycle's hot path
+        least = self.min_iterations
+        fit = least if n < least - 1 else 1 + int(n)
+        return fit if fit < cap else cap
 
     def record(self, seconds: float, iterations: int) -> None:
         """
@@ -120,11 +123,12 @@ class QPBackend:
         The estimates are robust running ones: a sample far above them (e.g. a preempted solve)
         moves them little.
         """
-        it = max(int(iterations), 1)
-        if it <= 2 or self._fixed == 0.0:
-            self._fixed = _robust(self._fixed, seconds / (1.0 if it <= 2 else it))
+        it, fixed = int(iterations), self._fixed
+        if it <= 2 or fixed == 0.0:
+            self._fixed = _robust(fixed, seconds if it <= 2 else seconds / it)
         else:
-            self._per = _robust(self._per, max(seconds - self._fixed, 0.0) / (it - 1))
+            extra = seconds - fixed
+            self._per = _robust(self._per, (extra if extra > 0.0 else 0.0) / (it - 1))
 
     def solve(self, H, g, A, b, C, lc, u, lbox, ubox) -> ReturnCode:
         raise NotImplementedError
