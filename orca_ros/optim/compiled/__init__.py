@@ -13,6 +13,9 @@
 # limitations under the License.
 """The compiled control cycle (numba): lowering at configuration, kernels every cycle."""
 
-from .cycle import CompiledCycle
+# first: without numba this raises MissingDependency (the controller's cue to run the reference
+# path) before any kernel module imports numba itself
+from ...utils import jit  # noqa: F401, I100
+from .cycle import CompiledCycle  # noqa: I100
 
 __all__ = ['CompiledCycle']
