@@ -131,6 +131,9 @@ def test_compiled_equals_reference_on_random_states(case, strategy, example_robo
         if k == 0:
             cycle = c1.compiled_cycle
             assert cycle is not None and not cycle.in_python, cycle.describe()
+            # no CoM task, every object by kernel: crba and nonLinearEffects, not
+            # computeAllTerms (optim/compiled/terms.py), with the same torques
+            assert cycle.two_passes, cycle.describe()
         assert c1.solution_found() == c2.solution_found()
         if not ok:
             continue
@@ -414,3 +417,33 @@ def test_compiled_follows_changes_between_steady_cycles(lwr_urdf):
     assert worst < 1e-9, worst
     # most cycles re-read nothing (all but those after a change and during ramps)
     assert steady > 0.6 * k, (steady, k)
+
+
+def test_two_pinocchio_passes_give_what_compute_all_terms_gives(example_robot_urdf):
+    """
+    Compare crba (world convention), nonLinearEffects and the drift kernel to computeAllTerms.
+
+    Fixed and floating bases (Panda, Solo, Talos): the placements, velocities, Jacobians, mass
+    matrix, nonlinear effects and drifts the kernels read, on random states, to 1e-12 relative.
+    """
+    from orca_ros.optim.compiled import fill, terms
+
+    for path, floating in (('panda_description/urdf/panda.urdf', False),
+                           ('solo_description/robots/solo12.urdf', True),
+                           ('talos_data/robots/talos_reduced.urdf', True)):
+        robot = orca.RobotModel()
+        robot.load_model_from_file(example_robot_urdf(path), floating_base=floating)
+        model = robot.model
+        assert terms.matches(model, lambda d: fill.data_views(model, d)), path
+        rng = np.random.default_rng(3)
+        full, two = model.createData(), model.createData()
+        for _ in range(20):
+            q = pin.integrate(model, pin.neutral(model), rng.normal(0.0, 1.0, model.nv))
+            v = rng.normal(0.0, 2.0, model.nv)
+            pin.computeAllTerms(model, full, q, v)
+            terms.two_passes(model, two, q, v)
+            fv, tv = fill.data_views(model, full), fill.data_views(model, two)
+            terms.drift(tv[0], tv[3], tv[2], model.gravity.linear.copy())
+            for a, b in ((full.M, two.M), (full.nle, two.nle), (full.J, two.J),
+                         (fv[0], tv[0]), (fv[1], tv[1]), (fv[2], tv[2])):
+                np.testing.assert_allclose(b, a, rtol=0, atol=1e-12 * max(1.0, np.abs(a).max()))

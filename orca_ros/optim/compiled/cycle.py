@@ -28,7 +28,7 @@ import time
 
 import numpy as np
 
-from . import cascade, contacts as ck, cycle_kernel, direct_daqp, fill
+from . import cascade, contacts as ck, cycle_kernel, direct_daqp, fill, terms
 from .lowering import lower, offset_in, Tables
 from .plan_assembly import PlanAssembly
 from .state_kernel import StateKernel
@@ -242,6 +242,15 @@ class CompiledCycle:
         if views is None:
             raise RuntimeError("Pinocchio's Data is not laid out as the kernels read it")
         self.data = d
+        # the Pinocchio pass: two passes where they give all the kernels read (terms.py)
+        self._derive = np.zeros(1, dtype=np.int64)
+        self._gravity = robot.model.gravity.linear.copy()
+        self._pass_stamp = None
+        self.two_passes = (
+            not self.python
+            and not any(low.kind == fill.COM for low in self.lowered)
+            and terms.matches(robot.model, lambda data: fill.data_views(robot.model, data))
+        )
         if robot._state_kernel is None:  # a new robot model (a re-weld) comes without it
             robot._state_kernel = StateKernel(robot, _QUATERNION_TOL)
         t.set_bodies(robot.model)
@@ -253,7 +262,8 @@ class CompiledCycle:
         if lay.n_wrenches == 0:
             lay.T, lay.t0 = T, t0  # what layout.update sets: update() calls it no more
         self.ws = make_workspace(
-            J=d.J, oMi=views[0], vj=views[1], aj=views[2], q=robot._q, v=robot._v,
+            J=d.J, oMi=views[0], vj=views[1], aj=views[2], a_gf=views[3], grav=self._gravity,
+            derive=self._derive, q=robot._q, v=robot._v,
             v_pin=robot._v_pin, T=T, t0=t0, cart=t.cart, cart_sup=t.cart_sup, jrec=t.jrec,
             lims=t.lims, pacc=t.pacc, tab=t.tab, par=t.par, tmp=t.tmp,
             com=d.com[0], vcom=d.vcom[0], Jcom=d.Jcom, body=t.body, crec=t.crec,
@@ -285,12 +295,12 @@ class CompiledCycle:
         full = watch.touched
         watch.touched = False
         if self.owns_layout:
-            self.robot._update_terms()  # computeAllTerms (ProblemLayout.update's, on that path)
+            self._pinocchio()  # (ProblemLayout.update's, on the reference path)
             self._contacts(t, dt, full)
         elif self.layout.n_wrenches:
             self.layout.update()
         else:  # (T, t0) are views on Pinocchio's M and nle (_bind_data)
-            self.robot._update_terms()
+            self._pinocchio()
         for obj in self.python:
             obj.update(t, dt)
         full = full or watch.touched
@@ -307,6 +317,16 @@ class CompiledCycle:
             # the wrench bounds (the kernel writes the joints' only): they change with the
             # contacts' state (lowered contacts: after a change; else their updates may any time)
             self.assembly.contacts()
+
+    def _pinocchio(self) -> None:
+        """Run this cycle's Pinocchio pass (terms.py): two passes, or computeAllTerms."""
+        r = self.robot
+        if not self.two_passes:
+            r._update_terms()
+        elif r._stamp != self._pass_stamp and r._terms_stamp != r._stamp:
+            terms.two_passes(r.model, r.data, r._q_pin, r._v_pin)
+            self._derive[0] = 1  # the first kernel derives the drifts
+            self._pass_stamp = r._stamp
 
     def solve(self, levels, deadline, max_iterations, name: str):
         """Solve every level by kernel (when ``steady``), as ``levels.solve`` returns."""
@@ -360,6 +380,7 @@ class CompiledCycle:
         return (
             f'compiled cycle: {len(self.lowered)} of {self.n_objects} objects by kernel'
             + (f'; in Python: {rest}' if rest else '')
+            + ('; Pinocchio: crba and nonLinearEffects' if self.two_passes else '')
             + ('; first level solved by DAQP in the kernel' if self.solver_in_kernel else '')
             + (f'; the {len(self.cascade.lower)} level(s) below too' if self.cascade
                else '')

@@ -20,7 +20,16 @@ import math
 from .assembly import assemble
 from .contacts import contact_terms
 from .fill import fill
+from .terms import drift
 from ...utils.jit import njit
+
+
+@njit
+def _drifts(ws):
+    """Derive the joints' drifts after the two-pass Pinocchio pass, once (terms.py)."""
+    if ws.derive[0]:
+        drift(ws.oMi, ws.a_gf, ws.aj, ws.grav)
+        ws.derive[0] = 0
 
 
 @njit
@@ -30,6 +39,7 @@ def run(ws, dt):
 
     Return flags: 1 soft boxes conflicted, 2 the first level's H or g is not finite.
     """
+    _drifts(ws)
     fill(dt, ws.J, ws.oMi, ws.vj, ws.aj, ws.q, ws.v, ws.v_pin, ws.T, ws.t0, ws.E, ws.f, ws.dg_f,
          ws.M, ws.lo, ws.hi, ws.nx, ws.box_lb, ws.box_ub, ws.cart, ws.cart_sup, ws.jrec,
          ws.lims, ws.pacc, ws.tab, ws.par, ws.tmp, ws.com, ws.vcom, ws.Jcom, ws.body, ws.crec)
@@ -50,6 +60,7 @@ def run(ws, dt):
 @njit
 def run_contacts(ws, dt):
     """Compute the contacts' kinematics, the torque map and the dynamics rows (first)."""
+    _drifts(ws)
     return contact_terms(ws.oMi, ws.vj, ws.aj, ws.J, ws.ct_sup, ws.M_pin, ws.nle, ws.Wj, ws.T,
                          ws.t0, ws.M, ws.lo, ws.hi, ws.nx, ws.ct_tab, ws.ct_par, ws.ct_faces,
                          ws.dyn[0], ws.dyn[1], dt, ws.tmp)

@@ -42,9 +42,9 @@ def _view(first: np.ndarray, count: int, width: int) -> np.ndarray:
 
 def data_views(model, data):
     """
-    Return Data's joint placements, velocities and drifts as arrays on Data's memory.
+    Return Data's joint placements, velocities, drifts and accelerations with gravity, on Data.
 
-    (oMi, v, a): (njoints, 12) [rotation column-major, translation], (njoints, 6), (njoints, 6).
+    (oMi, v, a, a_gf): (njoints, 12) [rotation column-major, translation], then (njoints, 6) each.
 
     Pinocchio keeps each of them in one contiguous std::vector; the layout is checked here,
     element by element against the bindings, and None is returned where it does not hold (the
@@ -54,18 +54,20 @@ def data_views(model, data):
     oMi = _view(data.oMi[0].rotation, nj, 12)
     v = _view(data.v[0].vector, nj, 6)
     a = _view(data.a[0].vector, nj, 6)
+    a_gf = _view(data.a_gf[0].vector, nj, 6)
     for j in range(nj):
         if not (
             np.array_equal(oMi[j, :9], data.oMi[j].rotation.reshape(-1, order='F'))
             and np.array_equal(oMi[j, 9:], data.oMi[j].translation)
             and np.array_equal(v[j], data.v[j].vector)
             and np.array_equal(a[j], data.a[j].vector)
+            and np.array_equal(a_gf[j], data.a_gf[j].vector)
         ):
             return None
         addr = data.oMi[j].rotation.__array_interface__['data'][0]
         if addr != oMi[j].__array_interface__['data'][0]:
             return None
-    return oMi, v, a
+    return oMi, v, a, a_gf
 
 
 @njit

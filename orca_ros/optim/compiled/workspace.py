@@ -27,8 +27,9 @@ from numba.experimental import structref
 
 #: the fields, in order (see CompiledCycle for what each is)
 FIELDS = (
-    # Pinocchio's Data and the robot's state
-    'J', 'oMi', 'vj', 'aj', 'q', 'v', 'v_pin', 'T', 't0',
+    # Pinocchio's Data and the robot's state; the accelerations with gravity, gravity, and
+    # whether the drifts aj are to be derived from them this cycle (compiled/terms.py)
+    'J', 'oMi', 'vj', 'aj', 'q', 'v', 'v_pin', 'T', 't0', 'a_gf', 'grav', 'derive',
     # the plan: dense task rows, diagonal tasks, level 0's problem, constraints, joint boxes
     'E', 'f', 'w', 'sel', 'row_task', 'ew',
     'dg_f', 'dg_sel', 'dg_colw', 'dg_ws', 'dg_wsf', 'dg_tab', 'dg_ew',
