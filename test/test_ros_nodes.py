@@ -238,3 +238,8 @@ def test_pause_enable_and_diagnostics(system):
     assert probe.diagnostics['solver_status'] == 'success'
     assert set(probe.diagnostics['active_tasks'].split(',')) == {'ee', 'posture'}
     assert float(probe.diagnostics['solve_time_median_us']) > 0
+    # state in to command out covers the cycle's solve: every command's latency is at least its
+    # solve's time, hence so are their medians
+    d = probe.diagnostics
+    assert 1e3 * float(d['state_to_command_median_ms']) >= float(d['solve_time_median_us'])
+    assert float(d['state_to_command_p99_ms']) >= float(d['state_to_command_median_ms'])

@@ -65,6 +65,8 @@ class ControllerDiagnostics:
             'period_p99_ms': per.quantile(0.99) * 1e3,
             'period_p999_ms': per.quantile(0.999) * 1e3,
             'period_max_ms': per.max() * 1e3,
+            'latency_median_ms': self.latencies.quantile(0.5) * 1e3,
+            'latency_p99_ms': self.latencies.quantile(0.99) * 1e3,
             'cycles': sol.total,
             'jitter_p99_ms': float(np.percentile(jitter, 99) * 1e3),
         }
@@ -120,6 +122,8 @@ class ControllerDiagnostics:
             'loop_period_p999_ms': f"{stats['period_p999_ms']:.3f}",
             'loop_period_max_ms': f"{stats['period_max_ms']:.3f}",
             'loop_jitter_p99_ms': f"{stats['jitter_p99_ms']:.3f}",
+            'state_to_command_median_ms': f"{stats['latency_median_ms']:.3f}",
+            'state_to_command_p99_ms': f"{stats['latency_p99_ms']:.3f}",
             'cycles': str(stats['cycles']),
             'qp_failures': str(fails),
             'commands_sent': str(self.commands_sent),

@@ -157,6 +157,9 @@ class OrcaControllerNode(
         self.solve_times = RingBuffer(window)
         self.cycle_stamps = RingBuffer(window)  # controller time of each solve (cycle_timing)
         self.loop_periods = RingBuffer(window)
+        # state in to command out: from the reception of the state a command answers to its
+        # publication
+        self.latencies = RingBuffer(window)
         # garbage collection kept out of the control cycle: after start-up, everything alive is
         # frozen out of the collector's sight and automatic collection is off; a low-rate timer
         # collects the youngest generation between cycles (the cycle itself allocates little and
@@ -320,6 +323,7 @@ class OrcaControllerNode(
             self._diagnosed = False
             self.safe.reset()
         self._publish(np.clip(cmd, -self.safe.limit, self.safe.limit))
+        self.latencies.push(time.monotonic() - self._state_wall)
 
     def on_callback_error(self, what: str, exc: Exception) -> None:
         """
