@@ -70,6 +70,7 @@ from .task import (  # noqa: E402
     GenericTask,
     JointAccelerationTask,
     JointTorqueTask,
+    MomentumTask,
     RegularisationTask,
     WrenchTask,
 )
@@ -80,6 +81,7 @@ __version__ = '0.1.0'
 __all__ = [
     'BilateralContact',
     'CoMTask',
+    'MomentumTask',
     'Contact',
     'BalanceConstraint',
     'SurfaceContact',

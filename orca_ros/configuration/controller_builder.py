@@ -62,13 +62,14 @@ from ..math.rotations import make_transform, rotation_from_rpy
 from ..optim import Controller, QPSolver, ResolutionStrategy
 from ..paths import share_path
 from ..robot import RobotModel
-from ..task import CartesianTask, CoMTask, JointAccelerationTask, JointTorqueTask
+from ..task import CartesianTask, CoMTask, JointAccelerationTask, JointTorqueTask, MomentumTask
 
 TASK_TYPES = {
     'cartesian': CartesianTask,
     'joint_acceleration': JointAccelerationTask,
     'joint_torque': JointTorqueTask,
     'com': CoMTask,
+    'momentum': MomentumTask,
 }
 CONTACT_TYPES = {'contact': Contact, 'bilateral_contact': BilateralContact}
 CONSTRAINT_TYPES = {
@@ -308,6 +309,12 @@ def _configure_task(task, tc: dict, n: int, name: str) -> None:
         task.pid().set_derivative_gain(_vec(tc.get('kd', 20.0), 3, f'{name}.kd'))
         if 'target' in tc:
             task.set_desired(_vec(tc['target'], 3, f'{name}.target'))
+    elif kind is MomentumTask:
+        task.pid().set_proportional_gain(_vec(tc.get('kp', 10.0), 6, f'{name}.kp'))
+        if 'ki' in tc:
+            task.pid().set_integral_gain(_vec(tc['ki'], 6, f'{name}.ki'))
+        if 'target' in tc:
+            task.set_desired(_vec(tc['target'], 6, f'{name}.target'))
     elif kind is JointTorqueTask:
         if 'target' in tc:
             task.set_desired(_vec(tc['target'], n, f'{name}.target'))

@@ -142,6 +142,7 @@ class JointLockingMixin:
         self.data = model.createData()
         self._gravity_data = model.createData()
         self._com = None
+        self._centroidal = None
         self.set_base_frame(self._base_frame)  # clears the frame cache
         self._stamp += 1
         return True

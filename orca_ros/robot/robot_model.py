@@ -36,6 +36,7 @@ import numpy as np
 import pinocchio as pin
 
 from . import state_input
+from .centroidal_momentum import CentroidalMomentum
 from .com_kinematics import ComKinematics
 from .frame_api import FrameApiMixin
 from .joint_locking import JointLockingMixin
@@ -95,6 +96,7 @@ class RobotModel(FrameApiMixin, JointLockingMixin):
         # of the same state
         self._gravity_data = model.createData()
         self._com = None
+        self._centroidal = None
         self.floating_base = bool(floating_base)
         if not self.name:
             self.name = model.name
@@ -360,6 +362,17 @@ class RobotModel(FrameApiMixin, JointLockingMixin):
         World axes.
         """
         return self._com_kinematics().terms()
+
+    def get_centroidal_momentum_terms(self):
+        """
+        (h, A_g 6 x nv, drift A_g_dot nu) of the centroidal momentum h = A_g nu.
+
+        h = [m v_com; angular momentum about the CoM], world-aligned axes at the CoM.
+        """
+        self._require_model()
+        if self._centroidal is None:
+            self._centroidal = CentroidalMomentum(self)
+        return self._centroidal.terms()
 
     def get_center_of_mass(self) -> np.ndarray:
         return self.get_center_of_mass_terms()[0].copy()

@@ -18,6 +18,7 @@ from .com_task import CoMTask
 from .generic_task import GenericTask
 from .joint_acceleration_task import JointAccelerationTask
 from .joint_torque_task import JointTorqueTask
+from .momentum_task import MomentumTask
 from .regularisation_task import RegularisationTask
 from .wrench_task import WrenchTask
 
@@ -27,6 +28,7 @@ __all__ = [
     'GenericTask',
     'JointAccelerationTask',
     'JointTorqueTask',
+    'MomentumTask',
     'RegularisationTask',
     'WrenchTask',
 ]
