@@ -12,15 +12,16 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-Compare orca_ros with TSID on the same URDF files and the same tasks.
+Compare orca_ros with TSID (and PlaCo) on the same URDF files and the same tasks.
 
-TSID is the peer: C++ core, Python bindings.
+TSID is the peer: C++ core, Python bindings. PlaCo's DynamicsSolver (C++ core, Python bindings,
+its own Pinocchio) is a second peer; the ratios stay relative to TSID.
 
 Scenarios (bench/peer/scenarios.py): the Panda arm (example-robot-data, 9 DoF: 6-D end-effector
 task following a moving point, posture, torque/position/velocity limits), the project's quadruped
 (4 point contacts with 4-face pyramids, trunk 6-D task, posture, torque limits) and Talos
 (example-robot-data, 38 DoF: both soles as rectangular surface contacts, CoM sway +-5 cm at 0.5 Hz,
-posture). Both controllers close the same kinematic loop for 2 s at 1 kHz and report per-step time
+posture). All controllers close the same kinematic loop for 2 s at 1 kHz and report per-step time
 (state in -> torques out) and the final task error (a lag: the references carry no feed-forward).
 The floor is Pinocchio's computeAllTerms + one warm-started solve of orca_ros's QP of each step
 (captured, in the solver's units and layout): what any Python controller on this stack spends at
@@ -30,10 +31,14 @@ the one of the default solver (DAQP), marked *, is the floor: floor / TSID compa
 
 Each (scenario, implementation) runs in its own process, interleaved round by round so that the
 machine's load hits all of them alike; the ratios are of the medians over rounds. TSID runs in a
-side venv (Python 3.13, built or reused by bench/tsid_venv.sh).
+side venv (Python 3.13, built or reused by bench/tsid_venv.sh), PlaCo in another (Python 3.11,
+bench/placo_venv.sh; skipped with --no-placo or when that venv cannot be made). PlaCo's sole
+contacts are 6-D wrenches (CoP in the rectangle) where TSID's and orca_ros's are forces at the 4
+corners, and it has no maximum normal force: bench/peer/run_placo.py says how each scenario maps
+onto it.
 
 Usage: python bench/bench_tsid.py [--rounds 5] [--scenarios panda quadruped talos] [--steps N]
-       [--solvers daqp] [--floor-solvers daqp proxqp osqp]
+       [--solvers daqp] [--floor-solvers daqp proxqp osqp] [--no-placo]
 """
 
 from __future__ import annotations
@@ -54,6 +59,22 @@ def tsid_python() -> str:
     out = subprocess.run(
         ['bash', os.path.join(HERE, 'tsid_venv.sh')], check=True, capture_output=True, text=True
     )
+    return out.stdout.strip().splitlines()[-1]
+
+
+def placo_python() -> str | None:
+    """Return the python of PlaCo's venv (bench/placo_venv.sh), or None if it can't be made."""
+    try:
+        out = subprocess.run(
+            ['bash', os.path.join(HERE, 'placo_venv.sh')],
+            check=True,
+            capture_output=True,
+            text=True,
+        )
+    except subprocess.CalledProcessError as e:
+        tail = e.stderr.strip().splitlines()[-1:] or ['?']
+        print(f'PlaCo skipped: its venv could not be made ({tail[0]})', file=sys.stderr)
+        return None
     return out.stdout.strip().splitlines()[-1]
 
 
@@ -79,10 +100,14 @@ def main(argv=None) -> int:
         default=['daqp', 'proxqp', 'osqp'],
         help='solvers whose floor is timed (the default solver, DAQP, is the floor)',
     )
+    ap.add_argument('--no-placo', action='store_true', help='do not run PlaCo (the second peer)')
     args = ap.parse_args(argv)
     tpy = tsid_python()
     steps = [] if args.steps is None else ['--steps', str(args.steps)]
     impls = [('tsid', [tpy, 'run_tsid.py'])]
+    ppy = None if args.no_placo else placo_python()
+    if ppy is not None:
+        impls.append(('placo', [ppy, 'run_placo.py']))
     for s in args.solvers:
         impls.append(
             (
