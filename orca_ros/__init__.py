@@ -33,6 +33,7 @@ from .common import ActivationState, TaskBase  # noqa: E402
 from .constraint import (  # noqa: E402
     BalanceConstraint,
     BilateralContact,
+    CollisionAvoidanceConstraint,
     Contact,
     DynamicsEquationConstraint,
     GenericConstraint,
@@ -84,6 +85,7 @@ __all__ = [
     'MomentumTask',
     'Contact',
     'BalanceConstraint',
+    'CollisionAvoidanceConstraint',
     'SurfaceContact',
     'WrenchTask',
     'surface_contact',

@@ -15,6 +15,7 @@
 
 from .balance_constraint import BalanceConstraint, convex_hull_2d
 from .bilateral_contact import BilateralContact
+from .collision_avoidance import CollisionAvoidanceConstraint
 from .contact import Contact, ContactBase, ContactExistenceCondition, surface_contact
 from .dynamics_equation_constraint import DynamicsEquationConstraint
 from .generic_constraint import GenericConstraint, JointBoxConstraint
@@ -28,6 +29,7 @@ from .surface_wrench_contact import contact_wrench_cone, SurfaceContact
 
 __all__ = [
     'BalanceConstraint',
+    'CollisionAvoidanceConstraint',
     'convex_hull_2d',
     'BilateralContact',
     'Contact',

@@ -63,6 +63,7 @@ class RobotModel(FrameApiMixin, JointLockingMixin):
         self._gravity_stamp = -1
         self._frame_cache: dict[int, tuple] = {}
         self.urdf_path: str | None = None
+        self.urdf_xml: str | None = None  # the description loaded (collision geometry reads it)
         self._locked = None  # joint_locking.LockedJoints while joints are locked
 
     # ------------------------------------------------------------------ loading
@@ -85,6 +86,7 @@ class RobotModel(FrameApiMixin, JointLockingMixin):
         except Exception as exc:  # pinocchio raises ValueError/RuntimeError with its own text
             raise ValueError(f'could not parse URDF: {exc}') from exc
         self._locked = None
+        self.urdf_xml = urdf_xml
         self._setup(model, floating_base)
         return True
 

@@ -17,7 +17,7 @@ from .contacts import ContactPoint
 from .joint_map import JointMap
 from .sim_model import SimModel
 from .sim_server import SimServer
-from .urdf_text import replace_collisions_with_boxes, resolve_package_uris
+from ..robot.urdf_text import replace_collisions_with_boxes, resolve_package_uris
 
 __all__ = [
     'ContactPoint',
