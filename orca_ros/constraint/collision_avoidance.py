@@ -49,6 +49,12 @@ def _skew(r):
     return np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
 
 
+def _cross(a, b):
+    """a x b of two 3-vectors (numpy's cross costs ~30x more on vectors this small)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                     a[0] * b[1] - a[1] * b[0]])
+
+
 class CollisionAvoidanceConstraint(GenericConstraint):
     def __init__(self, name: str, srdf: str | None = None, influence_distance: float = 0.1,
                  safety_distance: float = 0.02, max_pairs: int = 8,
@@ -130,7 +136,7 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         rl = R.T @ r
         v, a = data.v[joint], data.a[joint]  # local frame; a: the drift (computeAllTerms)
         w = v.angular
-        acc = R @ (a.linear + np.cross(a.angular, rl) + np.cross(w, v.linear + np.cross(w, rl)))
+        acc = R @ (a.linear + _cross(a.angular, rl) + _cross(w, v.linear + _cross(w, rl)))
         return J, J @ robot._v_pin, acc
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
