@@ -50,7 +50,7 @@ def _skew(r):
 
 
 def _cross(a, b):
-    """a x b of two 3-vectors (numpy's cross costs ~30x more on vectors this small)."""
+    """Return the cross product of two 3-vectors (numpy's cross costs ~30x more here)."""
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
                      a[0] * b[1] - a[1] * b[0]])
 
