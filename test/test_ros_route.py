@@ -39,6 +39,7 @@ KEY_OF_MODULE = {
     'yaml': 'python3-yaml',
     'matplotlib': 'python3-matplotlib',
     'pinocchio': 'pinocchio',
+    'coal': 'coal',
     'proxsuite': 'proxsuite',
     'numba': 'python3-numba',
     # numba's code generator: a dependency of numba's own (Debian's python3-numba depends on

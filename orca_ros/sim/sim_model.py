@@ -358,19 +358,5 @@ class SimModel(ContactsMixin):
         s = self.client.getLinkState(self.body, self._link(link_name), computeLinkVelocity=True)
         return np.array(s[6]), np.array(s[7])
 
-    def apply_external_force(self, link_name: str, force, point=None) -> None:
-        """
-        Push a link with ``force`` (N, world axes) during the next step only.
-
-        At ``point`` (world), by default the link frame's origin; call it before every step the
-        push lasts (PyBullet clears external forces after each step).
-        """
-        link = self._link(link_name)
-        at = self.get_link_position(link_name) if point is None else np.asarray(point, float)
-        self.client.applyExternalForce(
-            self.body, link, [float(f) for f in force], [float(p) for p in at],
-            flags=pybullet.WORLD_FRAME,
-        )
-
     def get_gravity(self) -> np.ndarray:
         return self.server.gravity.copy()
