@@ -21,12 +21,20 @@ position outside the URDF limits by more than ``position_margin``, a velocity be
 Absurd finite values (1e300) fail the limit checks like any other implausible reading, without
 arithmetic that could overflow. The positions of the joints locked in the model (another
 controller's, e.g. a gripper's) are read and checked too, into ``locked_positions``; other extra
-joints are ignored. No ROS here: the node hands over the message's fields.
+joints are ignored. A message without velocities (``JointState`` allows empty arrays: a driver
+that measures positions only) has them estimated from the positions, by filtered differences over
+the messages' stamps (:class:`~orca_ros.robot.velocity_estimator.VelocityEstimator`, 100 Hz);
+``estimating`` says so, for the node's log line. No ROS here: the node hands over the message's
+fields.
 """
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
+
+from ..robot.velocity_estimator import VelocityEstimator
 
 # |q| bound for joints without finite URDF position limits (rad or m): any real reading is below
 _UNLIMITED = 1e4
@@ -73,6 +81,8 @@ class JointStateInput:
         )
         self._names_key: tuple | None = None
         self._pick: np.ndarray | None = None
+        self.estimator = VelocityEstimator(len(self.joints))
+        self.estimating = False  # the last message had no velocities: they were estimated
 
     def _indices(self, names) -> np.ndarray:
         key = tuple(names)
@@ -97,22 +107,27 @@ class JointStateInput:
         self._names_key = key
         return self._pick
 
-    def read(self, names, position, velocity, q_out: np.ndarray, v_out: np.ndarray) -> None:
+    def read(self, names, position, velocity, q_out: np.ndarray, v_out: np.ndarray,
+             stamp: float = 0.0) -> None:
         """
         Check a message and write model-order q, v into ``q_out``, ``v_out``.
 
-        Raises StateRejected.
+        ``stamp``: the message's time [s] (0: unstamped, the time of reading is used), for the
+        velocities estimated when the message has none. Raises StateRejected.
         """
         pick = self._indices(names)
         n = len(names)
-        if len(position) != n or len(velocity) != n:
+        estimate = len(velocity) == 0 and n > 0
+        if len(position) != n or (len(velocity) != n and not estimate):
             raise StateRejected(
                 'state:sizes',
                 f'joint_states rejected: {len(position)} positions and '
                 f'{len(velocity)} velocities for {n} names',
             )
         pos = np.asarray(position, dtype=float)[pick]
-        vel = np.asarray(velocity, dtype=float)[pick[:len(self.joints)]]
+        n_cmd = len(self.joints)
+        vel = (np.zeros(n_cmd) if estimate
+               else np.asarray(velocity, dtype=float)[pick[:n_cmd]])
         if not (np.isfinite(pos).all() and np.isfinite(vel).all()):
             bad_v = np.zeros(pos.size, dtype=bool)
             bad_v[:vel.size] = ~np.isfinite(vel)
@@ -136,6 +151,9 @@ class JointStateInput:
                          'plausible reading'
                 ),
             )
+        self.estimating = estimate
+        if estimate:  # positions checked: differentiate them
+            vel = self.estimator.update(pos[:n_cmd], stamp if stamp > 0.0 else time.monotonic())
         fast = np.abs(vel) > self.max_speed
         if fast.any():
             i = int(np.flatnonzero(fast)[0])
@@ -144,7 +162,6 @@ class JointStateInput:
                 f'joint_states rejected: {self.joints[i]} velocity {vel[i]:.4g} '
                 f'beyond the plausible {self.max_speed[i]:.4g}',
             )
-        n_cmd = len(self.joints)
         q_out[:] = pos[:n_cmd][self._wire_of_model]
         v_out[:] = vel[self._wire_of_model]
         self.locked_positions[:] = pos[n_cmd:]

@@ -105,6 +105,7 @@ class LiveParameters:
             )
 
             def apply():
+                new_input.estimator = self._input.estimator  # its velocity estimate goes on
                 self._input = new_input
                 self._velocity_factor = factor
 

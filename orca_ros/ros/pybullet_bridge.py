@@ -14,7 +14,8 @@
 """
 PyBullet bridge node: the simulated robot behind ros2_control-style topics.
 
-Publishes ``joint_states`` (name, position, velocity, effort), ``odom`` (nav_msgs/Odometry,
+Publishes ``joint_states`` (name, position, velocity (none with ``publish_velocities: false``, as
+a driver that measures positions only), effort), ``odom`` (nav_msgs/Odometry,
 floating base only, twist in the child frame as the message defines) and ``/clock`` (simulated
 time); takes effort commands on ``/<controller_name>/commands`` (std_msgs/Float64MultiArray in the
 ``joints`` order, reliable QoS, as ros2_control's forward effort controller), so a real robot
@@ -84,6 +85,8 @@ class PyBulletBridge(GuardedNode):
         self.rate = float(param(self, 'rate', 1000.0))
         self.hw_gravity = bool(param(self, 'gravity_compensation', False))
         self.publish_clock = bool(param(self, 'publish_clock', self.mode == 'lockstep'))
+        # false: joint_states without velocities, as a driver that measures positions only
+        self.publish_velocities = bool(param(self, 'publish_velocities', True))
         self.stop_time = float(
             param(self, 'stop_time', 0.0)
         )  # > 0: simulated time at which stepping stops
@@ -325,7 +328,9 @@ class PyBulletBridge(GuardedNode):
         self._state_ns = stamp_ns(js.header.stamp)
         o = self._state_map
         js.position = self.model.get_joint_positions(o).tolist()
-        js.velocity = self.model.get_joint_velocities(o).tolist()
+        js.velocity = (
+            self.model.get_joint_velocities(o).tolist() if self.publish_velocities else []
+        )
         js.effort = self.model.get_joint_measured_torques(o).tolist()
         self.pub_js.publish(js)
         if self.pub_odom is not None:

@@ -36,12 +36,18 @@ from .joint_state_input import StateRejected
 
 class StateReception:
     def _on_joint_state(self, msg: JointState) -> None:
+        stamp = stamp_to_sec(msg.header.stamp)
         try:
-            self._input.read(msg.name, msg.position, msg.velocity, self._q_in, self._v_in)
+            self._input.read(msg.name, msg.position, msg.velocity, self._q_in, self._v_in, stamp)
         except StateRejected as exc:
             self.say('error', exc.cause, str(exc))
             return
-        stamp = stamp_to_sec(msg.header.stamp)
+        estimating = self._input.estimating
+        if estimating != getattr(self, '_estimating', False):  # said once per spell
+            self._estimating = estimating
+            if estimating:
+                self.say('warning', 'state:no_velocity', 'joint_states carry no velocities: '
+                         'estimating them from the positions (filtered differences, 100 Hz)')
         if (
             self.trigger == 'joint_state'
             and self._state_stamp is not None
