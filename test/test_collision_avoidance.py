@@ -172,3 +172,32 @@ def test_the_hand_goes_round_a_ball_on_its_path(example_robot_urdf):
     assert failures == 0
     assert error < 1e-3  # round the ball, to the target
     assert out[False][0] < 0.0  # without: into the ball
+
+
+def test_collision_avoidance_from_yaml(example_robot_urdf):
+    """type: collision_avoidance with its settings, an SRDF found next to the URDF, obstacles."""
+    from orca_ros.configuration import build_from_config, ConfigError
+
+    urdf = example_robot_urdf('panda_description/urdf/panda.urdf')
+    cc = {'type': 'collision_avoidance', 'srdf': '../srdf/panda.srdf', 'safety_distance': 0.03,
+          'max_pairs': 4, 'obstacles': ['table', 'ball'],
+          'table': {'shape': 'box', 'size': [1.0, 1.0, 0.05], 'position': [0.5, 0.0, -0.05]},
+          'ball': {'shape': 'sphere', 'size': [0.05], 'position': [0.0, 0.0, 0.1],
+                   'frame': 'panda_hand'}}
+    cfg = {'urdf_path': urdf, 'joints': [f'panda_joint{i}' for i in range(1, 8)],
+           'constraints': {'names': ['collision'], 'collision': cc}}
+    setup = build_from_config(cfg)
+    col = setup.controller.get_constraint('collision')
+    assert isinstance(col, orca.CollisionAvoidanceConstraint)
+    assert (col.safety_distance, col.max_pairs, col.rows()) == (0.03, 4, 4)
+    assert col.obstacle_names() == ['ball', 'table']
+    assert col.srdf.endswith('panda.srdf')
+    for change, match in ((('table', 'shape', 'cone'), "obstacle 'table': unknown shape"),
+                          (('collision', 'srdf', 'none.srdf'), "SRDF 'none.srdf' not found"),
+                          (('collision', 'safety_distance', 1.0), 'safety distance')):
+        bad = {k: (dict(v) if isinstance(v, dict) else v) for k, v in cc.items()}
+        where = bad if change[0] == 'collision' else bad[change[0]]
+        where[change[1]] = change[2]
+        cfg['constraints']['collision'] = bad
+        with pytest.raises(ConfigError, match=match):
+            build_from_config(cfg)

@@ -49,6 +49,8 @@ import os
 
 import numpy as np
 
+from .collision_config import make_collision_avoidance
+from .config_error import ConfigError
 from ..constraint import (
     BalanceConstraint,
     BilateralContact,
@@ -79,10 +81,6 @@ CONSTRAINT_TYPES = {
     'joint_acceleration_limit': JointAccelerationLimitConstraint,
     'balance': BalanceConstraint,
 }
-
-
-class ConfigError(ValueError):
-    pass
 
 
 @dataclass
@@ -186,6 +184,11 @@ def build_from_config(cfg: dict) -> ControllerSetup:
     cons = cfg.get('constraints') or {}
     for name in cons.get('names', []):
         cc = cons.get(name)
+        if isinstance(cc, dict) and cc.get('type') == 'collision_avoidance':
+            c = controller.add_constraint(make_collision_avoidance(name, cc, robot))
+            c.set_ramp_duration(float(cc.get('ramp', 0.0)))
+            setup.initially_active[name] = bool(cc.get('active', True))
+            continue
         if isinstance(cc, dict) and cc.get('type') in CONTACT_TYPES:
             c = controller.add_constraint(_make_contact(name, cc))
             c.set_ramp_duration(float(cc.get('ramp', 0.0)))
@@ -194,7 +197,7 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         if not isinstance(cc, dict) or cc.get('type') not in CONSTRAINT_TYPES:
             raise ConfigError(
                 f"constraint '{name}': 'type' must be one of "
-                f'{sorted(CONSTRAINT_TYPES) + sorted(CONTACT_TYPES)}'
+                f"{sorted(CONSTRAINT_TYPES) + sorted(CONTACT_TYPES) + ['collision_avoidance']}"
             )
         c = controller.add_constraint(CONSTRAINT_TYPES[cc['type']], name)
         if 'horizon' in cc:

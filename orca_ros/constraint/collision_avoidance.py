@@ -88,12 +88,13 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         else:
             self.geometry.add_obstacle(name, shape, size, pose, frame)
 
-    def move_obstacle(self, name: str, pose, frame=None) -> None:
+    def move_obstacle(self, name: str, pose, frame=None, velocity=None) -> None:
+        """Move an obstacle; ``velocity``: its linear velocity (world), when it moves on."""
         if self.geometry is None:
             shape, size, _, _ = self._pending[name]
             self._pending[name] = (shape, size, pose, frame)
         else:
-            self.geometry.move_obstacle(name, pose, frame)
+            self.geometry.move_obstacle(name, pose, frame, velocity)
 
     def remove_obstacle(self, name: str) -> None:
         if self.geometry is None:
@@ -155,6 +156,11 @@ class CollisionAvoidanceConstraint(GenericConstraint):
             ja, jb = geom.joints_of(k)
             Ja, va, aa = self._point(ja, p1)
             Jb, vb, ab = self._point(jb, p2)
+            oa, ob = geom.velocity_of(k)  # a moving obstacle closes in too
+            if oa is not None:
+                va = va + oa
+            if ob is not None:
+                vb = vb + ob
             closing = -float(n @ (vb - va))
             room = d - self.safety_distance
             # watched within the influence distance, or while it could not stop gently before

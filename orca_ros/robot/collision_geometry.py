@@ -112,6 +112,7 @@ class CollisionGeometry:
         if srdf is not None:
             pin.removeCollisionPairs(model, gm, srdf)
         self.obstacles: dict[str, int] = {}  # name -> geometry index
+        self.velocities: dict[str, np.ndarray] = {}  # name -> linear velocity (world) if moving
         self._rebuild()
 
     def _rebuild(self) -> None:
@@ -154,19 +155,32 @@ class CollisionGeometry:
         self.obstacles[name] = index
         self._rebuild()
 
-    def move_obstacle(self, name: str, pose, frame: str | None = None) -> None:
-        """Move obstacle ``name`` to ``pose`` (in the world, or in ``frame``)."""
+    def move_obstacle(self, name: str, pose, frame: str | None = None, velocity=None) -> None:
+        """
+        Move obstacle ``name`` to ``pose`` (in the world, or in ``frame``).
+
+        ``velocity``: its linear velocity (world axes) from now on, for the rate of its distances
+        (None: at rest).
+        """
         if name not in self.obstacles:
             raise KeyError(f"no obstacle '{name}'")
         obj = self.geom_model.geometryObjects[self.obstacles[name]]
         joint, placement = self._placement(pose, frame)
         if joint != obj.parentJoint:
             raise ValueError(f"obstacle '{name}': move it within its frame, or add it again")
+        v = None if velocity is None else np.asarray(velocity, dtype=float).reshape(3)
+        if v is not None and not np.isfinite(v).all():
+            raise ValueError(f"obstacle '{name}': velocity must be finite")
         obj.placement = placement
+        if v is None:
+            self.velocities.pop(name, None)
+        else:
+            self.velocities[name] = v
 
     def remove_obstacle(self, name: str) -> None:
         gm = self.geom_model
         index = self.obstacles.pop(name)
+        self.velocities.pop(name, None)
         gm.removeGeometryObject(f'obstacle:{name}')
         self.obstacles = {n: (i - 1 if i > index else i) for n, i in self.obstacles.items()}
         self._rebuild()
@@ -223,6 +237,12 @@ class CollisionGeometry:
                 out.append((d, int(k), p1, p2, np.array(res.normal)))
         out.sort(key=lambda e: e[0])
         return out
+
+    def velocity_of(self, pair: int) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """Return the linear velocities of the pair's moving obstacles (None for other bodies)."""
+        objects, (i, j) = self.geom_model.geometryObjects, self._pairs[pair]
+        return tuple(self.velocities.get(objects[k].name[len('obstacle:'):])
+                     if k >= self.n_robot else None for k in (i, j))
 
     def joints_of(self, pair: int) -> tuple[int, int]:
         objects, (i, j) = self.geom_model.geometryObjects, self._pairs[pair]

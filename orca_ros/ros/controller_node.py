@@ -53,6 +53,7 @@ from .controller_interfaces import ControllerInterfaces
 from .guarded_node import GuardedNode
 from .joint_state_input import JointStateInput
 from .live_parameters import LiveParameters
+from .obstacle_markers import ObstacleMarkers
 from .state_reception import StateReception
 from .target_smoothing import TargetSmoothing
 from ..configuration import build_from_config
@@ -67,6 +68,7 @@ class OrcaControllerNode(
     ControllerDiagnostics,
     TargetSmoothing,
     LiveParameters,
+    ObstacleMarkers,
 ):
     def __init__(self, **kwargs):
         super().__init__(
@@ -193,6 +195,7 @@ class OrcaControllerNode(
                 Odometry, str(param(self, 'odom_topic', 'odom')), self._on_odom, STATE_QOS
             )
         self.setup_trajectories(cfg['tasks'])
+        self.setup_obstacles()
         self.setup_interfaces(
             float(param(self, 'diagnostics_rate', 5.0)), float(param(self, 'feedback_rate', 50.0))
         )

@@ -1,0 +1,108 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+``~/obstacles`` (visualization_msgs/MarkerArray): obstacles for the collision constraints.
+
+A marker's identity is its ``ns`` and ``id``. ADD (or MODIFY, the same action) adds it or, when it
+exists, moves it (republish to move an obstacle); DELETE removes it, DELETEALL removes them all.
+Types: SPHERE (radius scale.x / 2), CUBE (scale x, y, z), CYLINDER (radius scale.x / 2, length
+scale.z). ``header.frame_id``: ``world``, empty for the robot's base frame, or a link of the model
+(the obstacle moves with it). A bad marker (another type, NaN, a scale not > 0, an unknown frame)
+is refused with a throttled log line naming it and the cause; the other markers of the array, and
+the controller, are unaffected. Nothing here when the configuration has no collision constraint.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from visualization_msgs.msg import Marker, MarkerArray
+
+from .common import DEFAULT_QOS, pose_to_matrix
+from ..constraint.collision_avoidance import CollisionAvoidanceConstraint
+
+_SHAPES = {Marker.SPHERE: 'sphere', Marker.CUBE: 'box', Marker.CYLINDER: 'cylinder'}
+
+
+def marker_obstacle(m, base_frame: str):
+    """Return (shape, size, pose 4x4, frame) of an ADD marker; ValueError naming what is wrong."""
+    shape = _SHAPES.get(m.type)
+    if shape is None:
+        raise ValueError(f'type {m.type} is not SPHERE, CUBE or CYLINDER')
+    s = np.array([m.scale.x, m.scale.y, m.scale.z], dtype=float)
+    p, o = m.pose.position, m.pose.orientation
+    values = np.array([p.x, p.y, p.z, o.x, o.y, o.z, o.w], dtype=float)
+    if not (np.isfinite(s).all() and np.isfinite(values).all()):
+        raise ValueError('NaN or infinite scale or pose')
+    if not np.linalg.norm(values[3:]) > 1e-6:
+        raise ValueError('zero orientation quaternion')
+    size = {'sphere': [s[0] / 2.0], 'box': list(s), 'cylinder': [s[0] / 2.0, s[2]]}[shape]
+    if min(size) <= 0.0:
+        raise ValueError(f'scale {s.tolist()} not > 0')
+    frame = m.header.frame_id
+    frame = base_frame if frame == '' else (None if frame == 'world' else frame)
+    return shape, size, pose_to_matrix(m.pose), frame
+
+
+class ObstacleMarkers:
+    def setup_obstacles(self) -> None:
+        self._collision = [c for c in self.controller.get_constraints()
+                           if isinstance(c, CollisionAvoidanceConstraint)]
+        self._marker_specs: dict = {}  # name -> (shape, size, frame) of the obstacles from markers
+        self._marker_seen: dict = {}  # name -> (time, position) of its last pose
+        if self._collision:
+            self.create_subscription(MarkerArray, '~/obstacles', self._on_obstacles, DEFAULT_QOS)
+
+    def _on_obstacles(self, msg: MarkerArray) -> None:
+        for m in msg.markers:
+            name = f'{m.ns}/{m.id}'
+            try:
+                self._apply_marker(m, name)
+            except (ValueError, KeyError) as exc:
+                self.say('warning', 'obstacles', f"obstacle marker '{name}' refused: {exc}")
+
+    def _apply_marker(self, m, name: str) -> None:
+        if m.action == Marker.DELETEALL:
+            for c in self._collision:
+                for n in list(self._marker_specs):
+                    c.remove_obstacle(n)
+            self._marker_specs.clear()
+            self._marker_seen.clear()
+            return
+        if m.action == Marker.DELETE:
+            if name not in self._marker_specs:
+                raise ValueError('DELETE of an obstacle that does not exist')
+            for c in self._collision:
+                c.remove_obstacle(name)
+            del self._marker_specs[name]
+            self._marker_seen.pop(name, None)
+            return
+        if m.action != Marker.ADD:
+            raise ValueError(f'action {m.action} is not ADD, DELETE or DELETEALL')
+        shape, size, pose, frame = marker_obstacle(m, self.robot.get_base_frame())
+        spec = (shape, size, frame)
+        now, velocity = self._now(), None
+        seen = self._marker_seen.get(name)
+        if seen is not None and self._marker_specs.get(name) == spec and frame is None \
+                and 0.0 < now - seen[0] <= 0.1:
+            # republished in the world: its velocity from the last two poses (the constraint
+            # brakes for an obstacle closing in, not only for the arm)
+            velocity = (pose[:3, 3] - seen[1]) / (now - seen[0])
+        for c in self._collision:
+            if self._marker_specs.get(name) == spec:
+                c.move_obstacle(name, pose, frame, velocity)
+            else:
+                c.add_obstacle(name, shape, size, pose, frame)
+        self._marker_specs[name] = spec
+        if seen is None or now > seen[0]:
+            self._marker_seen[name] = (now, pose[:3, 3].copy())

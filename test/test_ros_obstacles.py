@@ -1,0 +1,139 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Obstacles on ``~/obstacles`` (MarkerArray) through the nodes: the arm yields to a ball.
+
+The shipped lwr configuration in lockstep, plus a collision constraint (defaults). Distances are
+measured independently: coal on the URDF's own collision shapes at the simulator's states.
+"""
+
+import coal
+from geometry_msgs.msg import Point
+import numpy as np
+import orca_ros as orca
+from orca_ros.ros.launch_free import free_domain_id, Procs
+from orca_ros.ros.probe import Probe
+import pinocchio as pin
+from visualization_msgs.msg import Marker, MarkerArray
+
+RADIUS, SPEED = 0.05, 0.3  # the ball [m], its speed towards the hand [m/s]
+SAFETY = 0.02  # the constraint's default
+
+
+def _marker(centre=(0.0, 0.0, 0.0), action=Marker.ADD, kind=Marker.SPHERE, scale=2 * RADIUS,
+            frame='world', ns='test', ident=1):
+    m = Marker()
+    m.header.frame_id = frame
+    m.ns, m.id, m.type, m.action = ns, ident, kind, action
+    m.pose.position = Point(x=float(centre[0]), y=float(centre[1]), z=float(centre[2]))
+    m.pose.orientation.w = 1.0
+    m.scale.x = m.scale.y = m.scale.z = float(scale)
+    return m
+
+
+class _Distance:
+    """Least distance from the arm's URDF collision shapes to a ball (coal, on a state)."""
+
+    def __init__(self):
+        robot = orca.RobotModel()
+        robot.load_model_from_file(orca.default_urdf_path())
+        self.model = robot.model
+        self.data = self.model.createData()
+        self.gm = pin.buildGeomFromUrdf(self.model, orca.default_urdf_path(), pin.COLLISION)
+        self.gd = pin.GeometryData(self.gm)
+        self.ball = coal.Sphere(RADIUS)
+
+    def __call__(self, q, centre):
+        pin.updateGeometryPlacements(self.model, self.data, self.gm, self.gd, q)
+        at = coal.Transform3s(np.eye(3), np.asarray(centre, dtype=float))
+        best = np.inf
+        for i, g in enumerate(self.gm.geometryObjects):
+            if g.parentJoint == 0:
+                continue  # the base, welded to the world
+            r = coal.DistanceResult()
+            coal.distance(g.geometry, coal.Transform3s(self.gd.oMg[i]), self.ball, at,
+                          coal.DistanceRequest(), r)
+            best = min(best, r.min_distance)
+        return best
+
+
+def test_the_arm_yields_to_a_ball_and_returns_when_it_is_deleted(tmp_path):
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    procs.start_arm(
+        'lockstep',
+        controller_args=(
+            '-p', 'constraints.names:=[torque_limit, position_limit, velocity_limit, collision]',
+            '-p', 'constraints.collision.type:=collision_avoidance',
+        ),
+    )
+    probe = Probe(domain)
+    pub = probe.node.create_publisher(MarkerArray, '/orca_controller/obstacles', 10)
+    distance = _Distance()
+
+    def send(*markers):
+        pub.publish(MarkerArray(markers=list(markers)))
+
+    try:
+        probe.wait_sim(1.0, 120)  # the tasks ramp in (0.5 s): the arm holds its pose
+        hand0 = probe.ee_pose()[:3, 3].copy()
+        # bad markers first: each refused with its cause, the controller unharmed
+        bad = [
+            (_marker(kind=Marker.ARROW, ident=2), 'is not SPHERE, CUBE or CYLINDER'),
+            (_marker(centre=(np.nan, 0.0, 0.0), ident=3), 'NaN'),
+            (_marker(scale=0.0, ident=4), 'not > 0'),
+            (_marker(frame='no_such_link', ident=5), "unknown frame 'no_such_link'"),
+            (_marker(action=Marker.DELETE, ident=6), 'does not exist'),
+        ]
+        for m, cause in bad:  # sent until heard (the first may precede discovery's match)
+            line = f"obstacle marker 'test/{m.id}' refused: "
+            probe.wait_for(lambda: send(m) or line in procs.log('controller'), 60, line)
+            assert cause in procs.log('controller'), (cause, procs.log('controller')[-2000:])
+        # the ball comes at the hand from the side (y: across the arm's plane) at 0.3 m/s, from
+        # 0.25 m away, and goes 0.1 m past where the hand was
+        start = hand0 - [0.0, 0.25, 0.0]
+        t0 = probe.sim_time()
+        track = []  # (sim time, the ball's centre sent)
+        while True:
+            t = probe.sim_time()
+            travel = min(SPEED * (t - t0), 0.35)
+            centre = start + [0.0, travel, 0.0]
+            send(_marker(centre))
+            track.append((t, centre))
+            if travel >= 0.35 and t - t0 > 1.6:
+                break
+            probe.wait_for(lambda: probe.sim_time() > t, 30, 'a step')
+        with probe.lock:
+            states = [s for s in probe.states if t0 <= s[0]]
+        times = np.array([t for t, _ in track])
+        least = np.inf
+        for stamp, q, _ in states:
+            k = max(0, int(np.searchsorted(times, stamp, side='right')) - 2)  # the ball as sent
+            least = min(least, distance(q, track[k][1]))  # before the state's command
+        moved = np.linalg.norm(probe.ee_pose()[:3, 3] - hand0)
+        step = probe.max_torque_step(t0, probe.sim_time())
+        print(f'least distance {least * 1e3:.1f} mm; the hand yielded {moved * 1e3:.0f} mm; '
+              f'largest torque step {step:.2f} Nm')
+        assert least >= SAFETY - 2e-3
+        assert moved > 0.05  # it did yield: the ball passes where the hand was
+        # DELETE: back to where it held
+        send(_marker(action=Marker.DELETE))
+        probe.wait_sim(3.0, 120)
+        back = np.linalg.norm(probe.ee_pose()[:3, 3] - hand0)
+        print(f'after DELETE: {back * 1e3:.2f} mm from the held pose')
+        assert back < 1e-3
+        assert probe.diagnostics.get('_message') == 'controlling'
+    finally:
+        probe.close()
+        procs.stop()
