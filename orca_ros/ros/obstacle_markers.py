@@ -93,11 +93,13 @@ class ObstacleMarkers:
         spec = (shape, size, frame)
         now, velocity = self._now(), None
         seen = self._marker_seen.get(name)
-        if seen is not None and self._marker_specs.get(name) == spec and frame is None \
-                and 0.0 < now - seen[0] <= 0.1:
-            # republished in the world: its velocity from the last two poses (the constraint
-            # brakes for an obstacle closing in, not only for the arm)
-            velocity = (pose[:3, 3] - seen[1]) / (now - seen[0])
+        if seen is not None and self._marker_specs.get(name) == spec and frame is None:
+            # republished in the world: its velocity from the last two poses of different
+            # instants (the constraint brakes for an obstacle closing in, not only for the arm)
+            if 0.0 < now - seen[0] <= 0.1:
+                velocity = (pose[:3, 3] - seen[1]) / (now - seen[0])
+            elif now == seen[0]:
+                velocity = seen[2]  # another pose of the same instant: the same velocity
         for c in self._collision:
             if self._marker_specs.get(name) == spec:
                 c.move_obstacle(name, pose, frame, velocity)
@@ -105,4 +107,4 @@ class ObstacleMarkers:
                 c.add_obstacle(name, shape, size, pose, frame)
         self._marker_specs[name] = spec
         if seen is None or now > seen[0]:
-            self._marker_seen[name] = (now, pose[:3, 3].copy())
+            self._marker_seen[name] = (now, pose[:3, 3].copy(), velocity)
