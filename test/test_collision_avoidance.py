@@ -201,3 +201,39 @@ def test_collision_avoidance_from_yaml(example_robot_urdf):
         cfg['constraints']['collision'] = bad
         with pytest.raises(ConfigError, match=match):
             build_from_config(cfg)
+
+
+def test_diagnose_names_the_collision_constraint(example_robot_urdf):
+    """
+    A hand inside the safety distance of a ball, and joints held by hard acceleration limits.
+
+    The constraint asks the hand to move away, the limits forbid any acceleration: infeasible;
+    ``diagnose()`` names both. And a target behind the ball: the constraint holds the task back.
+    """
+    robot, _, srdf = _panda(example_robot_urdf)
+    model = robot.model
+    q = np.array([0.0, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785, 0.02, 0.02])
+    robot.set_robot_state(q, np.zeros(model.nv))
+    hand = robot.get_frame_pose('panda_hand')[:3, 3]
+    c = orca.Controller('c', robot)
+    ee = c.add_task(orca.CartesianTask, 'ee')
+    ee.set_control_frame('panda_hand')
+    ee.servo_controller().pid().set_proportional_gain([100.0] * 6)
+    col = c.add_constraint(orca.CollisionAvoidanceConstraint('collision', srdf=srdf))
+    ball = np.eye(4)
+    ball[:3, 3] = hand + [0.13, 0.0, 0.0]  # the hand within the safety distance of its surface
+    col.add_obstacle('ball', 'sphere', [0.1], ball)
+    held = c.add_constraint(orca.JointAccelerationLimitConstraint, 'held')
+    held.set_limits(-1e-3, 1e-3)
+    c.activate_tasks_and_constraints()
+    assert not c.update(0.0, 1e-3)
+    d = c.diagnose()
+    assert not d.feasible and set(d.conflicting_constraints) == {'collision', 'held'}, d.text()
+    # without the hard limits: a target through the ball; the constraint keeps the hand back
+    c.remove_constraint('held')
+    target = robot.get_frame_pose('panda_hand')
+    target[:3, 3] += [0.3, 0.0, 0.0]
+    ee.servo_controller().set_desired(target)
+    assert c.update(0.001, 1e-3)
+    d = c.diagnose()
+    assert ('ee', 'collision') in [(t, k) for t, k, _ in d.blocked_tasks], d.text()
