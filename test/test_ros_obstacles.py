@@ -137,3 +137,46 @@ def test_the_arm_yields_to_a_ball_and_returns_when_it_is_deleted(tmp_path):
     finally:
         probe.close()
         procs.stop()
+
+
+def test_the_bridge_puts_the_obstacles_in_the_simulation(tmp_path):
+    """
+    A wall published on the controller's topic stops the hand physically; DELETE frees it.
+
+    The controller here has no collision constraint: only the simulator knows the wall. Its
+    target 15 cm beyond the wall is not reached while the wall stands, and is once it is deleted.
+    """
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    procs.start_arm('lockstep')
+    probe = Probe(domain)
+    pub = probe.node.create_publisher(MarkerArray, '/orca_controller/obstacles', 10)
+
+    def send(m):
+        pub.publish(MarkerArray(markers=[m]))
+
+    try:
+        probe.wait_sim(1.0, 120)
+        T = probe.ee_pose()
+        hand0 = T[:3, 3].copy()
+        wall = _marker(hand0 + [0.0, 0.12, 0.0], kind=Marker.CUBE, scale=0.3)
+        wall.scale.y = 0.02  # 30 x 2 x 30 cm, across the way along y
+        line = "obstacle 'test/1' in the simulation"
+        probe.wait_for(lambda: send(wall) or line in procs.log('bridge'), 60, line)
+        target = T.copy()
+        target[1, 3] += 0.15
+        probe.send_target('ee', target, until=probe.moved_towards(target, 0.01))
+        probe.wait_sim(3.0, 120)
+        blocked = np.linalg.norm(probe.ee_pose()[:3, 3] - target[:3, 3])
+        gone = "obstacle 'test/1' removed from the simulation"
+        probe.wait_for(lambda: send(_marker(action=Marker.DELETE)) or gone in procs.log('bridge'),
+                       60, gone)
+        probe.wait_sim(3.0, 120)
+        free = np.linalg.norm(probe.ee_pose()[:3, 3] - target[:3, 3])
+        print(f'hand from its target: {blocked * 1e3:.1f} mm behind the wall, {free * 1e3:.2f} mm '
+              'once it is deleted')
+        assert blocked > 0.03
+        assert free < 1e-3
+    finally:
+        probe.close()
+        procs.stop()

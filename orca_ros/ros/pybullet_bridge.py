@@ -31,7 +31,8 @@ controller started late, a state lost); the controller answers a repeated state 
 of that instant again, so a controller that was only slow sends it twice. A command that names
 the state it answers (its layout's label, see ``common.ANSWERS``: this package's controller does
 in lockstep) steps only the instant it names; one that names none steps on arrival. Services:
-``~/reset``, ``~/pause``, ``~/unpause`` (std_srvs/Trigger).
+``~/reset``, ``~/pause``, ``~/unpause`` (std_srvs/Trigger). Obstacles: the controller's
+``~/obstacles`` markers become static bodies (``obstacles_topic``; :mod:`.sim_obstacles`).
 
 Watchdog (free running): without a valid command for ``command_timeout`` [0.02 s of simulated time]
 the bridge holds the robot like a drive would (the last command fades over ``hold_ramp`` [0.05 s]
@@ -62,6 +63,7 @@ from .common import (
     STATE_QOS,
 )
 from .guarded_node import GuardedNode
+from .sim_obstacles import SimObstacles
 from ..configuration import resolve_urdf_path
 from ..math.rotations import quaternion_xyzw
 from ..robot import RobotModel
@@ -69,7 +71,7 @@ from ..safety import CommandWatchdog
 from ..sim import SimServer
 
 
-class PyBulletBridge(GuardedNode):
+class PyBulletBridge(GuardedNode, SimObstacles):
     def __init__(self, **kwargs):
         super().__init__(
             'pybullet_bridge', automatically_declare_parameters_from_overrides=True, **kwargs
@@ -177,6 +179,7 @@ class PyBulletBridge(GuardedNode):
             Float64MultiArray, f'/{controller_name}/commands', self._on_command, COMMAND_QOS
         )
         self.create_service(Trigger, '~/reset', self._on_reset)
+        self.setup_obstacles()  # the controller's obstacle markers, as bodies (sim_obstacles.py)
         self.create_service(Trigger, '~/pause', self._on_pause)
         self.create_service(Trigger, '~/unpause', self._on_unpause)
         self._js = JointState()
