@@ -169,7 +169,7 @@ def _ball_run(example_robot_urdf, with_constraint, pybullet=False, tmp_path=None
 
 
 def _pybullet_panda(stack, urdf, tmp_path, q0, centre):
-    """The Panda (meshes resolved) and a static ball of 10 cm radius at ``centre`` in PyBullet."""
+    """Load the Panda (meshes resolved) and a static 10 cm ball at ``centre`` into PyBullet."""
     import pybullet as pb
     from orca_ros.robot.urdf_text import resolve_package_uris
     from orca_ros.sim import SimServer
@@ -180,8 +180,8 @@ def _pybullet_panda(stack, urdf, tmp_path, q0, centre):
     path.write_text(text)
     server = stack.enter_context(SimServer(time_step=1e-3, ground_plane=False))
     sim = server.insert_model_from_urdf_file(str(path), fixed_base=True)
-    names = [f'panda_joint{i}' for i in range(1, 8)] + ['panda_finger_joint1',
-                                                         'panda_finger_joint2']
+    names = [f'panda_joint{i}' for i in range(1, 8)]
+    names += ['panda_finger_joint1', 'panda_finger_joint2']
     by_name = sim.joint_map(names)
     sim.set_model_configuration(names, q0)
     c = server.client
