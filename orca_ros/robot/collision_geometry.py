@@ -133,6 +133,7 @@ class CollisionGeometry:
         self._second = np.array([p.second for p in cp], dtype=int)
         self._pairs = [(int(p.first), int(p.second)) for p in cp]  # Python ints: coal's indices
         self._request = coal.DistanceRequest()
+        self._shapes = [g.geometry for g in gm.geometryObjects]
 
     # ------------------------------------------------------------------ obstacles
     def add_obstacle(self, name: str, shape: str, size, pose=None, frame: str | None = None):
@@ -224,17 +225,18 @@ class CollisionGeometry:
         limit = influence + extra[self._first] + extra[self._second]
         gap = (np.linalg.norm(centres[self._first] - centres[self._second], axis=1)
                - self._radius[self._first] - self._radius[self._second])
-        out = []
-        for k in np.flatnonzero(gap < limit):
+        out, shapes, placed = [], self._shapes, {}  # each geometry's coal placement, once
+        for k in np.flatnonzero(gap < limit).tolist():
             res = coal.DistanceResult()
             i, j = self._pairs[k]
-            coal.distance(gm.geometryObjects[i].geometry, coal.Transform3s(oMg[i]),
-                          gm.geometryObjects[j].geometry, coal.Transform3s(oMg[j]),
-                          self._request, res)
+            for g in (i, j):
+                if g not in placed:
+                    placed[g] = coal.Transform3s(oMg[g])
+            coal.distance(shapes[i], placed[i], shapes[j], placed[j], self._request, res)
             d = res.min_distance
             if d < limit[k]:
                 p1, p2 = np.array(res.getNearestPoint1()), np.array(res.getNearestPoint2())
-                out.append((d, int(k), p1, p2, np.array(res.normal)))
+                out.append((d, k, p1, p2, np.array(res.normal)))
         out.sort(key=lambda e: e[0])
         return out
 
