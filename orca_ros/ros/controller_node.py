@@ -77,16 +77,10 @@ class OrcaControllerNode(
         cfg = {
             k: param(self, k, d)
             for k, d in (
-                ('urdf_path', ''),
-                ('robot_description', ''),
-                ('base_frame', ''),
-                ('joints', []),
-                ('solver', 'daqp'),
-                ('resolution_strategy', 'one_level_weighted'),
-                ('floating_base', False),
-                ('gravity_compensated_by_hardware', False),
-                ('compiled', True),
-                ('locked_joint_tolerance', 1e-4),
+                ('urdf_path', ''), ('robot_description', ''), ('base_frame', ''), ('joints', []),
+                ('solver', 'daqp'), ('resolution_strategy', 'one_level_weighted'),
+                ('floating_base', False), ('gravity_compensated_by_hardware', False),
+                ('compiled', True), ('locked_joint_tolerance', 1e-4),
             )
         }
         if not cfg['urdf_path'] and not cfg['robot_description']:
