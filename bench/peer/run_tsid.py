@@ -24,9 +24,7 @@ Usage: python run_tsid.py SCENARIO [--steps N]
 
 from __future__ import annotations
 
-import argparse
 import gc
-import json
 import time
 import warnings
 
@@ -190,13 +188,5 @@ def run(name: str, n_steps: int | None):
     }
 
 
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument('scenario', choices=sorted(S.SCENARIOS))
-    ap.add_argument('--steps', type=int, default=None)
-    a = ap.parse_args()
-    print(json.dumps(run(a.scenario, a.steps)))
-
-
 if __name__ == '__main__':
-    main()
+    S.cli(run)

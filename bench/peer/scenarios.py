@@ -24,7 +24,9 @@ carry no feed-forward, so the final task errors are lags that both controllers m
 
 from __future__ import annotations
 
+import argparse
 import glob
+import json
 import os
 import sys
 
@@ -207,3 +209,12 @@ def stats(times_s) -> dict:
         'p99_us': float(np.percentile(t, 99)),
         'n': int(t.size),
     }
+
+
+def cli(run) -> None:
+    """Run a peer's command line ``SCENARIO [--steps N]``: print its run as JSON."""
+    ap = argparse.ArgumentParser()
+    ap.add_argument('scenario', choices=sorted(SCENARIOS))
+    ap.add_argument('--steps', type=int, default=None)
+    a = ap.parse_args()
+    print(json.dumps(run(a.scenario, a.steps)))

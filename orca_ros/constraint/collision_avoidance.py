@@ -40,7 +40,7 @@ import pinocchio as pin
 
 from .generic_constraint import GenericConstraint
 from .viable_bound import ViableBound
-from ..robot.collision_geometry import CollisionGeometry
+from ..robot.collision_geometry import CollisionGeometry, make_shape
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
@@ -82,7 +82,6 @@ class CollisionAvoidanceConstraint(GenericConstraint):
     def add_obstacle(self, name: str, shape: str, size, pose=None, frame=None) -> None:
         """Add (or replace) a sphere, box, cylinder or capsule at ``pose`` (world or ``frame``)."""
         if self.geometry is None:
-            from ..robot.collision_geometry import make_shape  # noqa: PLC0415
             make_shape(shape, size)  # refused now, not at configuration
             self._pending[name] = (shape, size, pose, frame)
         else:

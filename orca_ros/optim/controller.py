@@ -268,9 +268,7 @@ class Controller(TaskRegistryMixin):
         deadline = time.perf_counter() + (
             self._time_budget if self._time_budget is not None else dt
         )
-        if (
-            self._dirty
-        ):  # a configuration cycle: solver workspaces are set up, its solves are not time-bounded
+        if self._dirty:  # configuration: solvers set up, their solves not time-bounded
             self._configure()
             deadline = None
         cc = self.compiled_cycle
@@ -282,9 +280,8 @@ class Controller(TaskRegistryMixin):
                 obj.update(current_time, dt)
             self._plan.update()
         if cc is not None and cc.steady:  # every level solved by kernel
-            problem, code, dropped = cc.solve(
-                self._levels, deadline, self._max_iterations, self.name
-            )
+            problem, code, dropped = cc.solve(self._levels, deadline, self._max_iterations,
+                                              self.name)
         else:
             problem, code, dropped = self._levels.solve(
                 deadline, self._max_iterations, self.priorities, self.name

@@ -34,6 +34,19 @@ from ..constraint.collision_avoidance import CollisionAvoidanceConstraint
 _SHAPES = {Marker.SPHERE: 'sphere', Marker.CUBE: 'box', Marker.CYLINDER: 'cylinder'}
 
 
+def marker_action(m, known) -> int:
+    """
+    Return the marker's action (ADD, DELETE or DELETEALL) for the obstacles ``known``.
+
+    ValueError for another action, or a DELETE of an obstacle that does not exist.
+    """
+    if m.action == Marker.DELETE and f'{m.ns}/{m.id}' not in known:
+        raise ValueError('DELETE of an obstacle that does not exist')
+    if m.action not in (Marker.ADD, Marker.DELETE, Marker.DELETEALL):
+        raise ValueError(f'action {m.action} is not ADD, DELETE or DELETEALL')
+    return m.action
+
+
 def marker_obstacle(m, base_frame: str):
     """Return (shape, size, pose 4x4, frame) of an ADD marker; ValueError naming what is wrong."""
     shape = _SHAPES.get(m.type)
@@ -72,23 +85,14 @@ class ObstacleMarkers:
                 self.say('warning', 'obstacles', f"obstacle marker '{name}' refused: {exc}")
 
     def _apply_marker(self, m, name: str) -> None:
-        if m.action == Marker.DELETEALL:
-            for c in self._collision:
-                for n in list(self._marker_specs):
+        action = marker_action(m, self._marker_specs)
+        if action != Marker.ADD:
+            for n in list(self._marker_specs) if action == Marker.DELETEALL else [name]:
+                for c in self._collision:
                     c.remove_obstacle(n)
-            self._marker_specs.clear()
-            self._marker_seen.clear()
+                del self._marker_specs[n]
+                self._marker_seen.pop(n, None)
             return
-        if m.action == Marker.DELETE:
-            if name not in self._marker_specs:
-                raise ValueError('DELETE of an obstacle that does not exist')
-            for c in self._collision:
-                c.remove_obstacle(name)
-            del self._marker_specs[name]
-            self._marker_seen.pop(name, None)
-            return
-        if m.action != Marker.ADD:
-            raise ValueError(f'action {m.action} is not ADD, DELETE or DELETEALL')
         shape, size, pose, frame = marker_obstacle(m, self.robot.get_base_frame())
         spec = (shape, size, frame)
         now, velocity = self._now(), None

@@ -118,10 +118,8 @@ class PyBulletBridge(GuardedNode, SimObstacles):
             param(self, 'base_orientation', [0.0, 0.0, 0.0, 1.0]),
             fixed_base=not self.floating,
         )
-        joints = list(
-            param(self, 'joints', self.model.get_joint_names()) or self.model.get_joint_names()
-        )
-        self.joints = joints
+        names = self.model.get_joint_names()
+        self.joints = joints = list(param(self, 'joints', names) or names)
         self.initial = np.array(
             param(self, 'initial_positions', [0.0] * len(joints)) or [0.0] * len(joints),
             dtype=float,
@@ -331,9 +329,8 @@ class PyBulletBridge(GuardedNode, SimObstacles):
         self._state_ns = stamp_ns(js.header.stamp)
         o = self._state_map
         js.position = self.model.get_joint_positions(o).tolist()
-        js.velocity = (
-            self.model.get_joint_velocities(o).tolist() if self.publish_velocities else []
-        )
+        v = self.model.get_joint_velocities(o).tolist() if self.publish_velocities else []
+        js.velocity = v
         js.effort = self.model.get_joint_measured_torques(o).tolist()
         self.pub_js.publish(js)
         if self.pub_odom is not None:

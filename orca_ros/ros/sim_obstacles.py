@@ -29,7 +29,7 @@ import pybullet
 from visualization_msgs.msg import Marker, MarkerArray
 
 from .common import DEFAULT_QOS, param
-from .obstacle_markers import marker_obstacle
+from .obstacle_markers import marker_action, marker_obstacle
 from ..math.rotations import quaternion_xyzw
 
 
@@ -53,18 +53,12 @@ class SimObstacles:
         self.server.client.removeBody(body)
 
     def _apply_marker(self, m, name: str) -> None:
-        if m.action == Marker.DELETEALL:
-            for n in list(self._bodies):
+        action = marker_action(m, self._bodies)
+        if action != Marker.ADD:
+            for n in list(self._bodies) if action == Marker.DELETEALL else [name]:
                 self._remove(n)
+                self.get_logger().info(f"obstacle '{n}' removed from the simulation")
             return
-        if m.action == Marker.DELETE:
-            if name not in self._bodies:
-                raise ValueError('DELETE of an obstacle that does not exist')
-            self._remove(name)
-            self.get_logger().info(f"obstacle '{name}' removed from the simulation")
-            return
-        if m.action != Marker.ADD:
-            raise ValueError(f'action {m.action} is not ADD, DELETE or DELETEALL')
         shape, size, pose, frame = marker_obstacle(m, '')
         if frame not in (None, ''):
             raise ValueError(f"frame '{frame}': only world and the base frame are simulated")
