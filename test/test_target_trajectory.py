@@ -50,3 +50,87 @@ def test_a_target_the_state_is_at_but_for_rounding_is_held():
     p, v, _ = traj.sample(3.0 + 0.5 * d)
     assert 0.0 < p[0, 3] - target[0, 3] < 0.05 and np.abs(v).max() > 0.0
     np.testing.assert_allclose(traj.sample(3.0 + d)[0], far, atol=1e-12)
+
+
+LIMITS = ([0.25, 1.0], [1.0, 3.0], [5.0, 15.0])  # the Cartesian defaults of the nodes
+
+
+def _at(p, rotvec=(0.0, 0.0, 0.0)):
+    T = np.eye(4)
+    T[:3, :3] = pin.exp3(np.asarray(rotvec, dtype=float))
+    T[:3, 3] = p
+    return T
+
+
+def test_a_reference_the_servo_cannot_follow_restarts_from_the_measured_state():
+    """
+    The issue-22 case without ROS: the frame stuck, the target 10 m and 3 rad away, for 3 s.
+
+    The reference never leads by more than the bound (0.2 s at the velocity limits: 5 cm,
+    0.2 rad); at the bound it stays (the pull does not drop: no sawtooth); the next target then
+    takes about as long as from the measured pose, not as from a reference metres away at speed.
+    """
+    measured = _at([0.5, 0.0, 0.5])
+    far = _at([10.5, 0.0, 0.5], [0.0, 0.0, 3.0])
+    leashed, runaway = CartesianTrajectory(*LIMITS), CartesianTrajectory(*LIMITS)
+    for traj in (leashed, runaway):
+        traj.start(0.0, measured, np.zeros(6), np.zeros(6), far)
+    bound = leashed.lead
+    np.testing.assert_allclose(bound, [0.05, 0.2])
+    lin, ang = [], []
+    for k in range(3001):
+        ref = leashed.follow(1e-3 * k, measured, np.zeros(6))[0]
+        lin.append(np.linalg.norm(ref[:3, 3] - measured[:3, 3]))
+        ang.append(np.linalg.norm(pin.log3(measured[:3, :3].T @ ref[:3, :3])))
+    lin, ang = np.array(lin), np.array(ang)
+    assert lin.max() <= bound[0] + 1e-12 and ang.max() <= bound[1] + 1e-12
+    assert leashed.restarts > 0
+    first = np.argmax(lin >= bound[0] - 1e-9)
+    assert first > 0 and lin[first:].min() > bound[0] - 1e-6
+    near = _at([0.5, 0.12, 0.41])  # 15 cm
+    fresh = CartesianTrajectory(*LIMITS).start(3.0, measured, np.zeros(6), np.zeros(6), near)
+    after = leashed.start(3.0, *leashed.follow(3.0, measured, np.zeros(6)), near)
+    before = runaway.start(3.0, *runaway.sample(3.0), near)
+    print(f'next target: {after:.2f} s (leashed), {before:.2f} s (runaway), {fresh:.2f} s fresh')
+    # the bound's 5 cm and the cruise within it: at most the time to cover them twice over
+    assert after < fresh + 2 * bound[0] / LIMITS[0][0]
+    assert before > fresh + 2.0  # what it was
+
+
+def test_a_servo_that_follows_never_restarts():
+    """Perfect tracking, then 4 mm and 0.02 rad behind: the reference is the plain sample."""
+    start, target = _at([0.5, 0.0, 0.5]), _at([0.7, 0.2, 0.3], [0.0, 0.5, 0.5])
+    traj, plain = CartesianTrajectory(*LIMITS), CartesianTrajectory(*LIMITS)
+    for tr in (traj, plain):
+        tr.start(0.0, start, np.zeros(6), np.zeros(6), target)
+    lag = _at([0.004, 0.0, 0.0], [0.0, 0.0, 0.02])
+    for k in range(2500):
+        t = 1e-3 * k
+        ref = plain.sample(t)
+        behind = ref[0] @ lag if k % 2 else ref[0]
+        got = traj.follow(t, behind, ref[1])
+        for a, b in zip(got, ref):
+            np.testing.assert_array_equal(a, b)
+    assert traj.restarts == 0
+
+
+def test_a_stuck_joint_restarts_alone():
+    """Three joints, the second stuck: its reference stays on the leash, the others' go on."""
+    from orca_ros.servo.target_trajectory import JointTrajectory
+
+    traj = JointTrajectory(3, [1.0, 1.0, 2.0], 2.0, 20.0)
+    q0, target = np.zeros(3), np.array([1.0, 2.0, -1.5])
+    traj.start(0.0, q0, np.zeros(3), np.zeros(3), target)
+    np.testing.assert_allclose(traj.lead, [0.2, 0.2, 0.4])
+    measured, refs = q0.copy(), []
+    for k in range(4000):
+        q, qd, _ = traj.follow(1e-3 * k, measured, np.zeros(3))
+        refs.append(q)
+        measured[[0, 2]] = q[[0, 2]]  # those follow perfectly
+    refs = np.array(refs)
+    assert np.abs(refs[:, 1]).max() <= 0.2 + 1e-12 and refs[-1, 1] > 0.2 - 1e-6
+    assert traj.restarts > 0
+    # the followers: continuous (no step beyond their speed limit) and at their targets
+    steps = np.abs(np.diff(refs[:, [0, 2]], axis=0)).max(axis=0)
+    assert (steps <= np.array([1.0, 2.0]) * 1e-3 + 1e-12).all(), steps
+    np.testing.assert_allclose(refs[-1, [0, 2]], target[[0, 2]], atol=1e-9)

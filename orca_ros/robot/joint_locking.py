@@ -147,6 +147,10 @@ class JointLockingMixin:
         self._stamp += 1
         return True
 
+    def get_full_model(self):
+        """Return the model with every joint of the URDF (the locked ones too)."""
+        return self.model if self._locked is None else self._locked.full_model
+
     def get_locked_joint_names(self) -> list[str]:
         return [] if self._locked is None else list(self._locked.names)
 

@@ -22,7 +22,7 @@ cycle runs to notice it (lockstep with a dead simulator). Parameters: ``diagnost
 ``overrun_factor`` [1.5]: a loop period above this many nominal periods counts as an overrun (not
 judged in lockstep, where the simulator sets the pace); ``error_warn_threshold`` [0.01 m] and
 ``error_warn_time`` [2 s]: a Cartesian task further than this from its target for longer is
-reported (WARN).
+reported (WARN), in the log too (at most once per ``error_warn_time`` per task).
 """
 
 from __future__ import annotations
@@ -33,8 +33,9 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 import numpy as np
 
 from .common import DEFAULT_QOS, param
-from .health import assess, TaskErrorWatch
+from .health import assess, persistent_error_text, TaskErrorWatch
 from ..optim.diagnosis import diagnose
+from ..utils.throttled_log import ThrottledLog
 
 _LEVEL = {0: DiagnosticStatus.OK, 1: DiagnosticStatus.WARN, 2: DiagnosticStatus.ERROR}
 
@@ -46,6 +47,7 @@ class ControllerDiagnostics:
             float(param(self, 'error_warn_threshold', 0.01)),
             float(param(self, 'error_warn_time', 2.0)),
         )
+        self._say_error = ThrottledLog(self.get_logger(), period=self.error_watch.duration)
         self._diag_marks = (0, 0, 0)  # cycles, QP failures, dropped levels at the previous report
         self.pub_diag = self.create_publisher(DiagnosticArray, '/diagnostics', DEFAULT_QOS)
         self.diagnostic_level = DiagnosticStatus.WARN
@@ -86,6 +88,10 @@ class ControllerDiagnostics:
         # fault
         timeout = self.state_timeout if self.trigger == 'timer' else max(self.state_timeout, 0.5)
         age = time.monotonic() - self._state_wall if self._have_state else 0.0
+        persistent = self.error_watch.persistent(self._now()) if self._have_state else []
+        self._say_error.period = self.error_watch.duration  # a live parameter
+        for name, norm, dur in persistent:
+            self._say_error('warning', f'error:{name}', persistent_error_text(name, norm, dur))
         level, message = assess(
             have_state=self._have_state,
             state_age=age,
@@ -99,7 +105,7 @@ class ControllerDiagnostics:
             check_periods=self.trigger == 'timer',
             overrun_factor=self.overrun_factor,
             interval=interval,
-            persistent_errors=self.error_watch.persistent(self._now()) if self._have_state else [],
+            persistent_errors=persistent,
         )
         st = DiagnosticStatus()
         st.name = f'{self.get_name()}: whole-body controller'

@@ -24,6 +24,9 @@ layout ``field`` x ``cycle``: controller time [s], then solve time [s]). Node se
 ``~/activate`` / ``~/deactivate`` (Trigger: every task and constraint, ramped), ``~/enable``
 (SetBool: false = hold with the safe command), ``~/reset_targets`` (Trigger: targets := current
 state). ``/diagnostics``: solver status, solve time, loop period and jitter, active tasks.
+A pose target (``target_pose``, ``target_point``) outside the reach of the task's frame (a sphere
+from the kinematic chain, :mod:`orca_ros.robot.reach`) is ignored with a WARN line naming the task
+and the distance: the task holds its previous target.
 """
 
 from __future__ import annotations
@@ -36,12 +39,14 @@ from std_srvs.srv import SetBool, Trigger
 from trajectory_msgs.msg import MultiDOFJointTrajectoryPoint
 
 from .common import DEFAULT_QOS, matrix_to_pose, pose_to_matrix
+from ..robot.reach import task_reaches
 from ..task import CartesianTask, CoMTask, JointAccelerationTask, JointTorqueTask
 
 
 class ControllerInterfaces:
     def setup_interfaces(self, diagnostics_rate: float, feedback_rate: float) -> None:
         self._target_time: dict[str, float] = {}
+        self._reach = task_reaches(self.robot, self.setup.tasks)  # once, at configuration
         self._feedback_pubs = {}
         for name, task in self.setup.tasks.items():
             base = f'~/tasks/{name}'
@@ -107,6 +112,8 @@ class ControllerInterfaces:
                 T = self.robot.get_relative_transform(base, frame) @ T
             elif self._have_state:
                 self._apply_state()
+            if self._out_of_reach(name, T):
+                return
             if not (self._have_state and self.smooth_target(name, T)):
                 task.servo_controller().set_desired(T)
         except ValueError as exc:
@@ -142,12 +149,22 @@ class ControllerInterfaces:
                 np.all(np.isfinite(T)) and np.all(np.isfinite(vel)) and np.all(np.isfinite(acc))
             ):
                 raise ValueError('NaN or infinite values')
+            if self._out_of_reach(name, T):
+                return
             self.stop_trajectory(name)  # a trajectory point already: as it is
             task.servo_controller().set_desired(T, vel, acc)
         except ValueError as exc:
             self.say('error', f'target:{name}', f"target point for task '{name}' rejected: {exc}")
             return
         self._target_time[name] = self._now()
+
+    def _out_of_reach(self, name: str, T) -> bool:
+        """Whether a pose target (base frame) is out of the task's reach: WARN, target ignored."""
+        reach = self._reach.get(name)
+        why = None if reach is None else reach.refusal(name, T[:3, 3])
+        if why is not None:
+            self.say('warning', f'reach:{name}', why)
+        return why is not None
 
     def _on_joint_target(self, name: str, msg: JointState) -> None:
         task = self.setup.tasks[name]

@@ -60,6 +60,11 @@ class TaskErrorWatch:
         ]
 
 
+def persistent_error_text(name: str, norm: float, duration: float) -> str:
+    """Say, for /diagnostics and the log, that a task's error stays large."""
+    return f"task '{name}' error {norm:.3g} for {duration:.1f} s (target unreachable?)"
+
+
 def assess(
     *,
     have_state: bool,
@@ -110,7 +115,7 @@ def assess(
                 f'{nominal_period * 1e3:.2f} ms period)'
             )
     for name, norm, dur in persistent_errors:
-        warns.append(f"task '{name}' error {norm:.3g} for {dur:.1f} s (target unreachable?)")
+        warns.append(persistent_error_text(name, norm, dur))
     if errors:
         return ERROR, '; '.join(errors + warns)
     if warns:

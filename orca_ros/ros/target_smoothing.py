@@ -21,20 +21,24 @@ limits], ``max_acceleration`` [2 rad/s^2], ``max_jerk`` [20 rad/s^3] (one value 
 A target on ``target_pose`` or a joint ``target`` without velocities starts a trajectory from the
 current reference (or, when none runs, from the measured state); ``target_point`` and joint targets
 with velocities are trajectory points already and go to the servo as they are. Holding, resetting
-or expiring a target stops the trajectory.
+or expiring a target stops the trajectory. ``max_lead`` [0.2 s]: the reference never leads the
+measured state by more than it covers in this time at ``max_velocity``; beyond, it restarts from
+the measured state (see :mod:`orca_ros.servo.target_trajectory`), and the log says so (WARN, at
+most once a second per task).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..servo.target_trajectory import CartesianTrajectory, JointTrajectory
+from ..servo.target_trajectory import CartesianTrajectory, JointTrajectory, MAX_LEAD
 from ..task import CartesianTask, JointAccelerationTask
 
 CARTESIAN_DEFAULTS = {
     'max_velocity': [0.25, 1.0],
     'max_acceleration': [1.0, 3.0],
     'max_jerk': [5.0, 15.0],
+    'max_lead': MAX_LEAD,
 }
 
 
@@ -57,6 +61,7 @@ class TargetSmoothing:
                     cfg.get('max_velocity', vel),
                     cfg.get('max_acceleration', 2.0),
                     cfg.get('max_jerk', 20.0),
+                    cfg.get('max_lead', MAX_LEAD),
                 )
 
     def smooth_target(self, name: str, target) -> bool:
@@ -93,17 +98,37 @@ class TargetSmoothing:
         """
         Before each update.
 
-        Every running trajectory hands its sample at t to its task's servo.
+        Every running trajectory hands its sample at t to its task's servo, within the lead
+        bound of the measured state.
         """
         if not self._running:
             return
         for name in list(self._running):
             task = self.setup.tasks[name]
             gen = self.trajectories[name]
-            ref = gen.sample(t)
+            restarts = gen.restarts
             if isinstance(task, CartesianTask):
-                task.servo_controller().set_desired(*ref)
+                servo = task.servo_controller()
+                ref = gen.follow(
+                    t, servo.get_current_cartesian_pose(), servo.get_current_cartesian_velocity()
+                )
+                servo.set_desired(*ref)
             else:
-                task.set_desired(*ref)
+                task.set_desired(*gen.follow(t, self._q, self._v))
+            if gen.restarts != restarts:
+                bound = _lead_text(gen, isinstance(task, CartesianTask))
+                self.say(
+                    'warning',
+                    f'lead:{name}',
+                    f"task '{name}' cannot follow its trajectory: restarted from the measured "
+                    f'state (the reference led it by more than {bound})',
+                )
             if gen.finished(t):
                 self._running.discard(name)
+
+
+def _lead_text(gen, cartesian: bool) -> str:
+    if cartesian:
+        return f'{gen.lead[0] * 1e3:.0f} mm or {gen.lead[1]:.2f} rad'
+    lo, hi = gen.lead.min(), gen.lead.max()
+    return f'{lo:.2f} rad' if hi == lo else f'{lo:.2f}-{hi:.2f} rad (per joint)'

@@ -1,0 +1,128 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+An unreachable target does not poison the next one (issue 22).
+
+The shipped arm through the nodes, free running at 1 kHz.
+"""
+
+import re
+import time
+
+import numpy as np
+from orca_ros.robot.reach import robot_reach
+from orca_ros.ros.launch_free import free_domain_id, Procs
+from orca_ros.ros.probe import Probe
+import pytest
+
+FAR = np.array([-10.0, 0.0, 0.0])  # outwards, 10 m: far beyond the arm's 1.07 m
+NEAR = np.array([0.0, 0.12, -0.09])  # 15 cm
+# rclpy's console lines: [SEVERITY] [seconds since the epoch] [node]: message
+LINE = re.compile(r'^\[(\w+)\] \[(\d+\.\d+)\] \[orca_controller\]: (.*)$', re.M)
+
+
+@pytest.fixture
+def arm(tmp_path):
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    procs.start_arm('free_running')
+    probe = Probe(domain)
+    try:
+        probe.wait_for(lambda: probe.commands, 60, 'the controller driving the bridge')
+        # past the start-up (the tasks' ramps, the collector's one full pass) and at rest
+        t0 = probe.sim_time()
+        probe.wait_for(
+            lambda: probe.sim_time() > t0 + 2.0 and np.abs(probe.last_state()[2]).max() < 1e-3,
+            60,
+            'the arm at rest',
+        )
+        yield probe, procs
+    finally:
+        probe.close()
+        procs.stop()
+
+
+def _stamped(probe, T):
+    from orca_ros.ros.common import matrix_to_pose
+
+    msg = probe.PoseStamped()
+    msg.header.stamp = probe.node.get_clock().now().to_msg()
+    matrix_to_pose(T, msg.pose)
+    return msg
+
+
+def _warnings(procs, what):
+    return [
+        (float(t), text)
+        for level, t, text in LINE.findall(procs.log('controller'))
+        if level == 'WARN' and what in text
+    ]
+
+
+def _reach_time(probe, target, t0, seconds):
+    """Sim time from t0 until the end effector is within 1 mm of target for good (None: never)."""
+    probe.wait_sim(seconds)
+    with probe.lock:
+        states = [s for s in probe.states if s[0] >= t0]
+    err = np.array([np.linalg.norm(probe.ee_pose(s[1])[:3, 3] - target[:3, 3]) for s in states])
+    outside = np.nonzero(err >= 1e-3)[0]
+    if outside.size and outside[-1] == len(err) - 1:
+        return None, err[-1]
+    k = outside[-1] + 1 if outside.size else 0
+    return states[k][0] - t0, err[-1]
+
+
+def test_far_target_is_refused_at_once_and_the_next_is_reached(arm):
+    probe, procs = arm
+    start = probe.ee_pose()
+    pub = probe._target_publisher('ee', 'ee', probe.PoseStamped, 'target_pose')
+    # the far target held for 3 s (sent at 50 Hz); each copy 1 mm further than the one before,
+    # so the distance a warning gives names the copy it answers, and that copy's stamp
+    sent = []  # (stamp [s], distance from the reach's centre [m])
+    centre = robot_reach(probe.robot, 'link_7').center  # to name the copies only
+    t_end = probe.sim_time() + 3.0
+    while probe.sim_time() < t_end:
+        T = start.copy()
+        T[:3, 3] += FAR * (1.0 + 1e-4 * len(sent))
+        msg = _stamped(probe, T)
+        pub.publish(msg)
+        stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
+        sent.append((stamp, float(np.linalg.norm(T[:3, 3] - centre))))
+        time.sleep(0.02)
+    moved = np.linalg.norm(probe.ee_pose()[:3, 3] - start[:3, 3])
+    warns = _warnings(procs, 'out of reach')
+    assert warns, procs.log('controller')[-3000:]
+    delays = []
+    for t_log, text in warns:
+        assert "task 'ee'" in text, text
+        asked = float(re.search(r'asked (\d+\.\d+) m', text).group(1))
+        k = int(np.argmin([abs(d - asked) for _, d in sent]))
+        assert abs(sent[k][1] - asked) < 5e-4, (asked, sent[k])
+        delays.append(t_log - sent[k][0])
+    print('delays', delays, {k: v for k, v in probe.diagnostics.items() if 'period' in k})
+    print(f'far target: {len(warns)} warnings, {max(delays) * 1e3:.1f} ms after their target '
+          f'at worst; the arm moved {moved * 1e3:.3f} mm')
+    # the controller's log stamp against the stamp of the copy it answers (one clock)
+    assert 0.0 <= min(delays) and max(delays) < 0.1, delays
+    # the target was ignored: the arm held its previous target (the start)
+    assert moved < 1e-3, f'the arm moved {moved * 1e3:.1f} mm towards a refused target'
+
+    near = start.copy()
+    near[:3, 3] += NEAR
+    t0 = probe.sim_time()
+    probe.send_target('ee', near, until=probe.moved_towards(near))
+    took, err = _reach_time(probe, near, t0, 4.0)
+    print(f'near target: reached in {took} s, {err * 1e3:.3f} mm left')
+    assert took is not None and took < 3.0, f'{err * 1e3:.1f} mm from the target after 4 s'
+    assert 'Traceback' not in procs.log('controller')
