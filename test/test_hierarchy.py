@@ -32,6 +32,9 @@ def _controller(urdf, strategy, solver, with_elbow=True, with_posture=False):
     # 1 ms period is wall-clock time, which two CPU-burning neighbours halve (measured: cut solves
     # under load); OSQP (ADMM) needs hundreds of iterations here, more than 1 ms even when idle
     c.set_solver_budget(time_budget=0.1)
+    # the strict cascade's optimum of each cycle: the default temporal damping spreads a lower
+    # level's move over cycles (tested in test_lower_level_damping.py)
+    c.set_lower_level_damping(0.0)
     ee = c.add_task(orca.CartesianTask, 'ee', level=0)
     ee.set_control_frame('link_7')
     ee.servo_controller().pid().set_proportional_gain(200.0)

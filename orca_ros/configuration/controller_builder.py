@@ -26,7 +26,8 @@ the commands on the wire; the others are welded at their measured positions, see
 ``solver`` [daqp]; ``resolution_strategy`` [one_level_weighted];
 ``gravity_compensated_by_hardware`` [false]; ``compiled`` [true] (the compiled cycle; false: the
 reference path); ``regularisation`` {weight, damping};
-``lower_level_damping`` [0] (strict levels, see Controller.set_lower_level_damping); ``tasks``:
+``lower_level_damping`` [10] (levels below the first, Controller.set_lower_level_damping);
+``tasks``:
 {names: [...], <name>: {type, ...}}; ``constraints``: {names: [...], <name>: {type, ...}}.
 
 Task types: ``cartesian`` (frame, kp[6|1], kd, ki, target_position, target_rpy),

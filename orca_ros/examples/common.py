@@ -119,18 +119,21 @@ def add_standard_constraints(
 STACK_Q0 = np.array([0.3, 0.7, -0.2, -1.1, 0.4, 0.6, 0.1])
 
 
-def add_conflicting_stack(controller: Controller, n_tasks: int = 3) -> dict:
+def add_conflicting_stack(
+    controller: Controller, n_tasks: int = 3, frames=('link_7', 'link_4'), posture=None
+) -> dict:
     """
     Add the arm's 3-level stack whose elbow task pulls against the end effector.
 
     Levels: end-effector position (level 0, weight 1), elbow position pulling elsewhere (level 1,
-    weight 10), joint posture towards zero (level 2); the first ``n_tasks`` of them, targets offset
-    from the current poses. Returns the tasks by name.
+    weight 10), joint posture towards ``posture`` (None: zero; level 2); the first ``n_tasks`` of
+    them, targets offset from the current poses. ``frames``: the end effector's and the elbow's
+    (lwr.urdf's by default). Returns the tasks by name.
     """
     robot = controller.robot
     specs = [
-        ('ee', 'link_7', [0.05, -0.08, 0.04], 1.0),
-        ('elbow', 'link_4', [-0.2, 0.3, -0.1], 10.0),
+        ('ee', frames[0], [0.05, -0.08, 0.04], 1.0),
+        ('elbow', frames[1], [-0.2, 0.3, -0.1], 10.0),
     ]
     tasks = {}
     for level, (name, frame, offset, weight) in enumerate(specs[:n_tasks]):
@@ -148,7 +151,8 @@ def add_conflicting_stack(controller: Controller, n_tasks: int = 3) -> dict:
         post = controller.add_task(JointAccelerationTask, 'posture', level=2)
         post.pid().set_proportional_gain(25.0)
         post.pid().set_derivative_gain(10.0)
-        post.set_desired(np.zeros(robot.get_nr_of_degrees_of_freedom()))
+        n = robot.get_nr_of_degrees_of_freedom()
+        post.set_desired(np.zeros(n) if posture is None else np.asarray(posture, dtype=float))
         tasks['posture'] = post
     return tasks
 

@@ -31,6 +31,7 @@ from .cycle_plan import CyclePlan
 from .describe import describe_controller
 from .diagnosis import diagnose
 from .generalized import GeneralizedPriorities
+from .lower_level_problem import DEFAULT_LOWER_LEVEL_DAMPING
 from .priority_levels import PriorityLevels, tasks_by_level
 from .problem_layout import ProblemLayout
 from .resolution_strategy import ResolutionStrategy
@@ -97,7 +98,7 @@ class Controller(TaskRegistryMixin):
         self._update_cb: Callable[[float, float], None] | None = None
         self._time_budget: float | None = self.default_time_budget
         self._max_iterations: int | None = None  # None: each solver's default
-        self._lower_damping = 0.0  # temporal damping of the levels below the first
+        self._lower_damping = DEFAULT_LOWER_LEVEL_DAMPING
         self._levels: PriorityLevels | None = None
         n = self.layout.ndof
         self._tau = np.zeros(n)
@@ -341,9 +342,9 @@ class Controller(TaskRegistryMixin):
 
     def set_lower_level_damping(self, mu: float) -> None:
         """
-        Damp every level below the first in time: + mu ||x - x_prev||^2.
+        Damp every level below the first in time: + mu W ||x - x_prev||^2 (0: off; default 10).
 
-        See :meth:`LowerLevelProblem.set_temporal_damping`; strict levels only; 0 (default) off.
+        W: the level's own weights; see :meth:`LowerLevelProblem.set_temporal_damping`.
         """
         if self._levels is not None:
             self._levels.set_temporal_damping(mu)

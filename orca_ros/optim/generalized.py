@@ -34,9 +34,12 @@ QP of its tasks. Level k >= 1, given the solution x_{k-1} of the level above:
 1. the *reference* x_w,k: the weighted QP of every task of levels <= k under the constraints (what
    weighting alone would do);
 2. each locked task i (level < k) gets the priority alpha_i = max_j alpha[i, j] over the tasks j
-   of level k, and the per-row band  b_i = (1 - alpha_i) |diag(s_i) E_i (x_w,k - x_{k-1})|: the
-   part of the disturbance
-   that weighting would inflict on task i that level k is still allowed to inflict;
+   of level k, and the per-row band  b_i = (1 - alpha_i)^2 |diag(s_i) E_i (x_w,k - x_{k-1})|:
+   the part of the disturbance that weighting would inflict on task i that level k is still
+   allowed to inflict (squared: the band closes with zero slope at alpha = 1. Inside a small band
+   a level can move the joints by up to band / sigma_min(E_i) along directions task i barely
+   sees; closed linearly, the last 0.1 % of a priority ramp stepped the torques by ~8 Nm on the
+   Panda 3-level stack of test/test_lower_level_damping.py);
 3. x_k = argmin  sum_{levels <= k} w_t ||diag(s_t)(E_t x - f_t)||^2 + regularisation
          s.t. the constraints (relaxed to keep x_{k-1} feasible, see :mod:`.lower_level_problem`),
               |diag(s_i) E_i (x - x_{k-1})| <= b_i  for every locked task i.
@@ -55,6 +58,11 @@ from __future__ import annotations
 import numpy as np
 
 from .solvers import ReturnCode
+
+
+def band_share(alpha: float) -> float:
+    """Share of the weighted disturbance a locked task of priority alpha lets through."""
+    return (1.0 - alpha) ** 2
 
 
 class GeneralizedPriorities:
@@ -104,7 +112,7 @@ class GeneralizedPriorities:
         for t, a in zip(problem.locked, alphas):
             m = t.rows()
             if t.get_effective_weight() > 0.0:
-                band[k: k + m] = (1.0 - a) * np.abs(t.selection * (t.E @ dx))
+                band[k: k + m] = band_share(a) * np.abs(t.selection * (t.E @ dx))
             else:
                 band[k: k + m] = 0.0
             k += m

@@ -18,9 +18,10 @@ With x_ref the solution of the level above, the level solves for the step z = x 
 
 * the tasks of the levels above are *locked*: their rows diag(s) E_i keep the value they had at
   x_ref, either exactly (strict priority: diag(s) E_i z = 0, with the constraint equalities
-  A z = 0; DAQP takes them as equality rows, its active set leaving out the rows that depend on
-  others, e.g. the zero rows of unselected components or a task redundant with the ones above;
-  ProxQP and OSQP work in a null-space basis instead, see :mod:`.null_space_step`) or up to a
+  A z = 0; DAQP takes them as equality rows, made orthonormal first (:func:`orthonormalise_locks`:
+  DAQP declares a feasible problem infeasible when its equalities depend on each other, as the
+  3 rows of an elbow's position do where its Jacobian loses rank); ProxQP and OSQP work in a
+  null-space basis instead, see :mod:`.null_space_step`) or up to a
   per-row band |diag(s) E_i z| <= band (the generalized priorities of
   :mod:`orca_ros.optim.generalized`);
 * every inequality and bound of the original problem is kept, relaxed only so that z = 0 stays
@@ -44,6 +45,39 @@ from .solvers import make_backend, QPSolver, ReturnCode
 from .weighted_problem import WeightedProblem
 
 _ROOM_TOL = 1e-6  # bounds closer than this to the level above's solution leave the step no room
+#: a lock row whose part independent of the rows before it is below this share of the largest
+#: lock row is left out (zero: the unselected components' rows, directions a singular task loses)
+LOCK_RANK_TOL = 1e-6
+
+
+def orthonormalise_locks(rows: np.ndarray) -> None:
+    """
+    Replace the lock rows by an orthonormal basis of the space they span, in place.
+
+    Modified Gram-Schmidt in row order; a row that depends on the ones before it (to
+    LOCK_RANK_TOL) becomes zero. The same equalities z-wise (rows . z = 0), independent.
+    """
+    if not rows.shape[0]:
+        return
+    tol = LOCK_RANK_TOL * math.sqrt(float(np.einsum('ij,ij->i', rows, rows).max()))
+    kept = []
+    for i in range(rows.shape[0]):
+        r = rows[i]
+        for j in kept:
+            r -= (r @ rows[j]) * rows[j]
+        n = math.sqrt(float(r @ r))
+        if n > tol and n > 0.0:
+            r /= n
+            kept.append(i)
+        else:
+            r[:] = 0.0
+
+
+#: the default temporal damping of the levels below the first (a ratio, see set_temporal_damping):
+#: strict and GENERALIZED torques continuous on arms nobody tuned for (at most 1.0 Nm per 1 ms
+#: cycle on the lwr, iiwa and Panda 3-level stack of test/test_lower_level_damping.py; 10 cycles
+#: of lag on a level that follows its optimum)
+DEFAULT_LOWER_LEVEL_DAMPING = 10.0
 
 
 class LowerLevelProblem(WeightedProblem):
@@ -69,6 +103,7 @@ class LowerLevelProblem(WeightedProblem):
         if solver is QPSolver.DAQP:
             self.locked_backend = make_backend(solver, nx, ne, ni, scale=scale)
             self._null_space = None
+            self._retry = None  # a null-space solve for the cycles DAQP fails
             # DAQP's stacked layout, written in place: M = [A; C] (self.A, where lock() writes the
             # lock rows, is a view on it), lo = [lbox'; 0; l'], hi = [ubox'; 0; u']
             self._M = np.zeros((ne + ni, nx))
@@ -89,21 +124,29 @@ class LowerLevelProblem(WeightedProblem):
         self.banded_backend = None
         # temporal damping per variable, in the solver's units (wrenches in the robot's weight)
         self._damp_w = 1.0 / np.square(scale)
-        # temporal damping mu ||x - x_prev||^2 (see set_temporal_damping); x_prev: this level's
+        # temporal damping mu W ||x - x_prev||^2 (see set_temporal_damping); x_prev: this level's
         # solution of the previous cycle, which x holds while _prev_ok[0] (x is written by the
         # level's solves only; the compiled cycle's kernels read the flag too)
-        self.temporal_damping = 0.0
+        self.temporal_damping = 0.0  # the controller sets its default
+        # what the damping is relative to this cycle: the summed weights of the level's own tasks
+        # (ramps left out), times its priority alpha under GENERALIZED (set by the cascade)
+        self.damping_scale = 1.0
         self._prev_ok = np.zeros(1, dtype=np.int64)
 
     def set_temporal_damping(self, mu: float) -> None:
         """
-        Pull this level's solution towards its previous cycle's: + mu ||x - x_prev||^2.
+        Pull this level's solution towards its previous cycle's: + mu W ||x - x_prev||^2.
+
+        W: the summed weights of the level's own computing tasks (``damping_scale``, set each cycle
+        by the cascade), so that mu is a ratio that does not depend on how the level is weighted:
+        with W ||x - x_prev||^2 against a cost of the same weight, the level's solution follows
+        its optimum as a first-order filter of about mu cycles where nothing else binds.
 
         A lower level whose tasks conflict with the levels above sits on the bounds left to it, and
         hops between vertices of that set as bounds come and go (a velocity limit riding on and
         off): its accelerations jump by tens of rad/s^2 from one cycle to the next. The damping
         makes it move continuously; it acts in the null space of the locked rows only, so the
-        levels above are untouched. 0 (default) solves each cycle on its own. Wrenches are damped
+        levels above are untouched. 0 solves each cycle on its own. Wrenches are damped
         in units of the robot's weight (as the solver sees them). A level's first cycle (and the
         first after a failure) is damped towards the solution of the level above, so that a level
         switched on starts from what the robot already does.
@@ -157,7 +200,7 @@ class LowerLevelProblem(WeightedProblem):
         if not math.isfinite(self.H.sum() + self.g.sum()):
             self.return_code = ReturnCode.NON_FINITE_PROBLEM
             return self.return_code
-        mu = self.temporal_damping
+        mu = self.temporal_damping * self.damping_scale
         # the first cycle (or after a failure): towards the level above's solution, so that a
         # level starts from what the robot is already doing instead of jumping to its optimum
         prev = self.x if self._prev_ok[0] else self.x_ref
@@ -181,7 +224,7 @@ class LowerLevelProblem(WeightedProblem):
                 np.add(self.x_ref, dx, out=self.x)
             else:
                 code = ReturnCode.NON_FINITE_SOLUTION
-        if mu > 0.0:  # after a failure, start again from the next solution
+        if self.temporal_damping > 0.0:  # after a failure, start again from the next solution
             self._prev_ok[0] = code is ReturnCode.SUCCESS
         self.return_code = code
         return code
@@ -243,9 +286,35 @@ class LowerLevelProblem(WeightedProblem):
             self._M[ne:] = self.C
             self._relaxed(self.l, self.u, self.C @ self.x_ref, lo[nx + ne:], hi[nx + ne:])
         self._relaxed(self.lbox, self.ubox, self.x_ref, lo[:nx], hi[:nx])
+        orthonormalise_locks(self._M[self.n_eq_constraints: ne])
+        np.dot(self.A[self.n_eq_constraints:], self.x_ref, out=self.b[self.n_eq_constraints:])
         b = self.locked_backend
         code = b.solve_stacked(self.H, g, self._M, lo, hi)
-        return code, (b.x if code is ReturnCode.SUCCESS else None)
+        if code is not ReturnCode.SUCCESS:
+            return self.solve_stacked_in_null_space(self.H, g)
+        return code, b.x
+
+    def solve_stacked_in_null_space(self, H, g):
+        """
+        Solve the strict form of DAQP's layout (the step's H and g) in a null-space basis.
+
+        When DAQP failed on it. DAQP does not take a degenerate vertex: a bound that the locks
+        already imply (a joint the levels above fix) and that sits at zero room makes it declare
+        the problem infeasible (the Panda 3-level stack, elbow rows of rank 2, the fingers on
+        their limits); in the null space of the locks that bound is an empty row. An SVD, only in
+        the cycles DAQP fails. Returns (code, z or None).
+        """
+        nx, ne = self.layout.nx, self.n_eq
+        if self._retry is None:
+            self._retry = NullSpaceStep(
+                self.solver_type, nx, ne, self.n_in, self.layout.variable_scale
+            )
+        self._retry.backend.deadline = self.locked_backend.deadline
+        self._retry.backend.max_iterations = self.locked_backend.max_iterations
+        lo, hi, M = self._lo, self._hi, self._M
+        return self._retry.solve(
+            H, g, M[:ne], M[ne:], lo[nx + ne:], hi[nx + ne:], lo[:nx], hi[:nx]
+        )
 
     def lock_rows(self) -> int:
         return self.n_eq - self.n_eq_constraints

@@ -86,6 +86,23 @@ class PriorityLevels:
         for p in self.problems[1:]:
             p.set_temporal_damping(mu)
 
+    def damping_scale(self, i: int, priorities) -> float:
+        """
+        Return what level i's temporal damping is relative to this cycle.
+
+        The summed weights of its own tasks, ramps left out (a task ramping in meets a damping
+        at its full weight, and moves from what the robot does smoothly); under GENERALIZED, times
+        its priority (the
+        largest alpha of a locked task over it): 0 at alpha = 0, where the level is the weighted
+        solution exactly, the strict cascade's damping at alpha = 1, continuous in between.
+        """
+        own = self.level_tasks[i]
+        w = sum(t.weight for t in own if t.is_computing())
+        if self.references[i] is not None:
+            w *= max((priorities.level_priority(t, own) for t in self.problems[i].locked),
+                     default=1.0)
+        return w
+
     def first_failed(self, problem, code, deadline, max_iterations):
         """
         Level 0 failed with ``code``: solve it with elastic contacts where there are contacts.
@@ -122,6 +139,7 @@ class PriorityLevels:
                     self.references[i].set_budget(deadline, max_iterations)
                     band = priorities.bands(problem, own, self.references[i], x_above)
                 problem.lock(x_above, band)
+                problem.damping_scale = self.damping_scale(i, priorities)
             problem.build()
             problem.set_budget(deadline, max_iterations)
             code = problem.solve()

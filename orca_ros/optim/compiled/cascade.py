@@ -31,6 +31,7 @@ import time
 import numpy as np
 
 from . import direct_daqp, lower_level as L
+from ..generalized import band_share
 from ..solvers import ReturnCode
 from ...utils.jit import entry
 from ...utils.logger import get_logger
@@ -107,8 +108,9 @@ class _Level:
         self.Mb = np.zeros((nc + ni + nl, nx))
         self.lob, self.hib = np.zeros(nx + nc + ni + nl), np.zeros(nx + nc + ni + nl)
         self.state = L.LevelState(
-            plan.E, plan.f, plan.w, plan.sel, assembly.ew, plan.diag_sel, plan.diag_ws,
-            plan.diag_wsf, assembly.dg_ew, assembly.dg_tab, plan.M, plan.lo, plan.hi,
+            plan.E, plan.f, plan.w, plan.sel, assembly.ew, assembly.nw, plan.diag_sel,
+            plan.diag_ws, plan.diag_wsf, assembly.dg_ew, assembly.dg_nw, assembly.dg_tab, plan.M,
+            plan.lo, plan.hi,
             np.array([0] + [diag[id(t)] for t in cost_dg], dtype=i64),
             np.array([dense[id(t)] for t in self.tasks if id(t) in dense], dtype=i64),
             np.array([diag[id(t)] for t in own_dg], dtype=i64),
@@ -140,6 +142,7 @@ class _Level:
             )
         self.releasing = False  # a locked task is ramping: the level is solved in Python
         self.open = False  # some priority below 1: bands from the reference
+        self.alpha = 1.0  # the level's priority (GENERALIZED)
 
     def flags(self) -> None:
         self.releasing = any(
@@ -148,12 +151,13 @@ class _Level:
         )
 
     def read_priorities(self, priorities) -> None:
-        """1 - alpha per lock row (GENERALIZED; alpha = 1, strict, otherwise)."""
-        k = 0
+        """Band share per lock row (GENERALIZED; 0, strict, otherwise) and the level's alpha."""
+        k, self.alpha = 0, 1.0 if not self.problem.locked else 0.0
         for t in self.problem.locked:
             m = t.rows()
             alpha = priorities.level_priority(t, self.tasks) if self.banded else 1.0
-            self.keep[k: k + m] = 1.0 - alpha
+            self.keep[k: k + m] = band_share(alpha)
+            self.alpha = max(self.alpha, alpha)  # the damping's share (PriorityLevels')
             k += m
         self.open = bool(np.any(self.keep > 0.0))
 
@@ -204,13 +208,17 @@ class CompiledCascade:
         """
         p = lev.problem
         mu = p.temporal_damping
-        lev.mu[0] = mu
+        lev.mu[0] = mu * lev.alpha  # times the own tasks' weights, by kernel
         p.band = None
         if banded and lev.open:
             code = CompiledCascade._generalized(lev, deadline, max_iterations)
         else:
             b = _budget(p.locked_backend, deadline, max_iterations)
             code = b.solve_prepared(lev.fused, lev.state, L.PREPARED)
+            if code.__class__ is not int and code is not _SUCCESS:  # as _solve_locked_stacked
+                code, z = p.solve_stacked_in_null_space(lev.Hd, lev.g2)
+                if code is _SUCCESS:
+                    np.add(p.x_ref, z, out=p.x)
         if code.__class__ is int:  # not prepared
             if code == L.PREPARED - L.NOTHING_TO_DO:
                 return _NOTHING
@@ -284,6 +292,7 @@ class CompiledCascade:
         p.lock(x_above, band)
         if p.band is None:
             return _STRICT
+        p.damping_scale = levels.damping_scale(i, self.priorities)
         p.build()
         p.set_budget(deadline, max_iterations)
         return p.solve()

@@ -265,7 +265,10 @@ def viable_upper(room, v, acc, dt, h, one_step):
     else:
         d = max((math.sqrt(disc) - b) * (0.5 / dt2), stop)
     e = (R - h * v) * (2.0 / (h * h))
-    d = max(min(d, e), -acc)
+    d = min(d, e)
+    if v > 0.0:  # the braking margin shrinks at most with the time constant h
+        d = min(d, (acc * R - 0.5 * v * v) / (h * v) - acc)
+    d = max(d, -acc)
     if one_step:
         return min(a * (2.0 / dt2), d)
     return d

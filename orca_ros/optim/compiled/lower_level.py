@@ -47,19 +47,22 @@ READY, NON_FINITE, NOTHING_TO_DO = 0, 1, 2
 PREPARED = -200
 #: room left to the step (LowerLevelProblem's _ROOM_TOL)
 ROOM_TOL = 1e-6
+#: LowerLevelProblem's
+LOCK_RANK_TOL = 1e-6
 
 FIELDS = (
     # the plan's arrays (rows, weights, diagonal tasks, constraints)
-    'E', 'f', 'w', 'sel', 'ew', 'dg_sel', 'dg_ws', 'dg_wsf', 'dg_ew', 'dg_tab', 'pM', 'plo',
-    'phi',
+    'E', 'f', 'w', 'sel', 'ew', 'nw', 'dg_sel', 'dg_ws', 'dg_wsf', 'dg_ew', 'dg_nw', 'dg_tab',
+    'pM', 'plo', 'phi',
     # the level's tables and cost rows [r0, r1)
     'cdiag', 'own', 'own_dg', 'locks', 'r0', 'r1',
     # the level's problem (LowerLevelProblem's arrays): H, g, M = [A_eq; locks; C], b, lo, hi
     'H', 'g', 'M', 'b', 'lo', 'hi', 'x_above', 'x_ref', 'x', 'prev_ok', 'damp_w', 'mu',
     # what the solver reads: the damped Hessian and the gradient at x_ref
     'Hd', 'g2', 'nc', 'ni', 'nx',
-    # GENERALIZED: 1 - alpha per lock row, the weighted reference's solution, the bands, and the
-    # banded form in DAQP's layout: M = [A_eq; C; locks], lo = [lbox'; 0; l'; -band], hi
+    # GENERALIZED: the band share (1 - alpha)^2 per lock row, the weighted reference's solution,
+    # the bands, and the banded form in DAQP's layout: M = [A_eq; C; locks],
+    # lo = [lbox'; 0; l'; -band], hi
     'keep', 'ref_x', 'band', 'Mb', 'lob', 'hib',
 )
 
@@ -87,14 +90,46 @@ def _relax(lo, hi, value, out_lo, out_hi, k):
 
 
 @njit
+def orthonormalise_locks(M, b, x_above, r0, r1, nx):
+    """Rows [r0, r1) of M orthonormal, b their values at x_above (orthonormalise_locks')."""
+    top = 0.0
+    for r in range(r0, r1):
+        n = 0.0
+        for a in range(nx):
+            n += M[r, a] * M[r, a]
+        top = max(top, n)
+    tol = LOCK_RANK_TOL * math.sqrt(top)
+    for r in range(r0, r1):
+        for q in range(r0, r):
+            c = 0.0
+            for a in range(nx):
+                c += M[r, a] * M[q, a]
+            if c != 0.0:
+                for a in range(nx):
+                    M[r, a] -= c * M[q, a]
+        n = 0.0
+        for a in range(nx):
+            n += M[r, a] * M[r, a]
+        n = math.sqrt(n)
+        v = 0.0
+        for a in range(nx):
+            M[r, a] = M[r, a] / n if n > tol and n > 0.0 else 0.0
+            v += M[r, a] * x_above[a]
+        b[r] = v
+
+
+@njit
 def prepare(s):
     """Write the level's problem for this cycle; return READY, NON_FINITE or NOTHING_TO_DO."""
     ew, dg_ew = s.ew, s.dg_ew
-    weighted = False
+    # weighted: some own task in the cost; weight: their weights, ramps left out (damping_scale)
+    weighted, weight = False, 0.0
     for k in range(s.own.shape[0]):
         weighted = weighted or ew[s.own[k]] > 0.0
+        weight += s.nw[s.own[k]]
     for k in range(s.own_dg.shape[0]):
         weighted = weighted or dg_ew[s.own_dg[k]] > 0.0
+        weight += s.dg_nw[s.own_dg[k]]
     if not weighted:
         return NOTHING_TO_DO  # the solution above stands
     nx, nc, ni = s.nx, s.nc, s.ni
@@ -127,7 +162,7 @@ def prepare(s):
     if not math.isfinite(total):
         return NON_FINITE
     # equalities: the constraints' as they are (x_above meets them), then the locks
-    M, b, pM, plo, x_above, x_ref = s.M, s.b, s.pM, s.plo, s.x_above, s.x_ref
+    M, b, pM, plo, x_above, x_ref, Mb = s.M, s.b, s.pM, s.plo, s.x_above, s.x_ref, s.Mb
     for a in range(nx):
         x_ref[a] = x_above[a]
     for i in range(nc):
@@ -148,10 +183,12 @@ def prepare(s):
                 else:
                     e = s.dg_sel[r0 + i] if a == c0 + i else 0.0
                 M[row + i, a] = e
+                Mb[nc + ni + row - nc + i, a] = e  # as they are, for the bands
                 v += e * x_above[a]
             b[row + i] = v
         row += n
     ne = row
+    orthonormalise_locks(M, b, x_above, nc, ne, nx)  # the strict form's (LowerLevelProblem's)
     # inequalities and bounds: relaxed around x_ref
     lo, hi, phi = s.lo, s.hi, s.phi
     for i in range(ni):
@@ -167,7 +204,7 @@ def prepare(s):
     for a in range(nx):
         _relax(plo[a], phi[a], x_ref[a], lo, hi, a)
     # the solver's Hessian and gradient at x_ref, damped towards the last solution (or x_ref)
-    Hd, g2, mu = s.Hd, s.g2, s.mu[0]
+    Hd, g2, mu = s.Hd, s.g2, s.mu[0] * weight
     prev = s.x if s.prev_ok[0] else x_ref
     for a in range(nx):
         mw = mu * s.damp_w[a] if mu > 0.0 else 0.0
@@ -199,25 +236,25 @@ def bands(s):
     """
     Bands of the lock rows from the reference's solution; the banded form when one is open.
 
-    band = (1 - alpha) |lock row . (x_w - x_above)| (a switched-off task's rows are zero);
+    band = (1 - alpha)^2 |lock row . (x_w - x_above)| (a switched-off task's rows are zero);
     returns how many bands are open (0: the strict form stands, as for the reference path's
     band None).
     """
     nx, nc, ni = s.nx, s.nc, s.ni
-    M, x_above, ref_x, keep, band = s.M, s.x_above, s.ref_x, s.keep, s.band
+    x_above, ref_x, keep, band, Mb = s.x_above, s.ref_x, s.keep, s.band, s.Mb
     nl = band.shape[0]
     ne = nc + nl
     n_open = 0
     for j in range(nl):
         v = 0.0
         for a in range(nx):
-            v += M[nc + j, a] * (ref_x[a] - x_above[a])
+            v += Mb[nc + ni + j, a] * (ref_x[a] - x_above[a])  # the lock rows as prepared
         band[j] = keep[j] * abs(v)
         if band[j] > 0.0:
             n_open += 1
     if n_open == 0:
         return 0
-    Mb, lob, hib, lo, hi = s.Mb, s.lob, s.hib, s.lo, s.hi
+    M, lob, hib, lo, hi = s.M, s.lob, s.hib, s.lo, s.hi
     for i in range(nc):
         for a in range(nx):
             Mb[i, a] = M[i, a]
@@ -228,9 +265,7 @@ def bands(s):
             Mb[nc + i, a] = M[ne + i, a]
         lob[nx + nc + i] = lo[nx + ne + i]
         hib[nx + nc + i] = hi[nx + ne + i]
-    for j in range(nl):
-        for a in range(nx):
-            Mb[nc + ni + j, a] = M[nc + j, a]
+    for j in range(nl):  # (Mb's lock rows: written by prepare)
         lob[nx + nc + ni + j] = -band[j]
         hib[nx + nc + ni + j] = band[j]
     for a in range(nx):

@@ -34,8 +34,10 @@ class PlanAssembly:
         i64 = np.int64
         self.tasks = list(plan.tasks)
         self.ew = np.zeros(max(1, len(self.tasks)))
+        self.nw = np.zeros(max(1, len(self.tasks)))  # weights, ramps left out (0 when inactive)
         self.diag = list(plan.diagonal_tasks)
         self.dg_ew = np.zeros(len(self.diag))
+        self.dg_nw = np.zeros(len(self.diag))
         self.dg_tab = np.array(
             [[r.start, r.stop - r.start, t.diagonal_columns.start]
              for t, r in zip(self.diag, plan.diagonal_rows)],
@@ -72,12 +74,11 @@ class PlanAssembly:
 
     def flags(self) -> None:
         """Write this cycle's effective weights and on/off flags, after every object's step."""
-        ew = self.ew
-        for i, t in enumerate(self.tasks):
-            ew[i] = t.weight * t._ramp_factor if t.state not in _INACTIVE else 0.0
-        dg = self.dg_ew
-        for i, t in enumerate(self.diag):
-            dg[i] = t.weight * t._ramp_factor if t.state not in _INACTIVE else 0.0
+        for ew, nw, tasks in ((self.ew, self.nw, self.tasks), (self.dg_ew, self.dg_nw, self.diag)):
+            for i, t in enumerate(tasks):
+                on = t.state not in _INACTIVE
+                nw[i] = t.weight if on else 0.0
+                ew[i] = t.weight * t._ramp_factor if on else 0.0
         on = self.con_on
         for i, c in enumerate(self.cons):
             on[i] = c.state not in _INACTIVE
