@@ -44,6 +44,7 @@ C_P_REF, C_V_REF, C_A_REF, C_KP, C_KI, C_KD, C_WINDUP, C_INTEGRAL, C_ERR = range
 COM_SIZE = 27
 
 _FAR = 1e6  # as viable_bound._FAR
+MARGIN_SHARE = 0.5  # as viable_bound._MARGIN_SHARE
 
 
 _EPS = np.finfo(np.float64).eps
@@ -266,8 +267,9 @@ def viable_upper(room, v, acc, dt, h, one_step):
         d = max((math.sqrt(disc) - b) * (0.5 / dt2), stop)
     e = (R - h * v) * (2.0 / (h * h))
     d = min(d, e)
-    if v > 0.0:  # the braking margin shrinks at most with the time constant h
-        d = min(d, (acc * R - 0.5 * v * v) / (h * v) - acc)
+    margin = acc * R - 0.5 * v * v  # A s: the braking margin (ViableBound.upper's f)
+    if v > 0.0 and margin > 0.0:  # it shrinks at most with the time constant h / 2
+        d = min(d, margin / (MARGIN_SHARE * h * v) - acc)
     d = max(d, -acc)
     if one_step:
         return min(a * (2.0 / dt2), d)
