@@ -32,10 +32,10 @@ NEAR = np.array([0.0, 0.12, -0.09])  # 15 cm
 LINE = re.compile(r'^\[(\w+)\] \[(\d+\.\d+)\] \[orca_controller\]: (.*)$', re.M)
 
 
-@pytest.fixture
-def arm(tmp_path):
+@pytest.fixture(scope='module')
+def arm(tmp_path_factory):
     domain = free_domain_id()
-    procs = Procs(domain, str(tmp_path))
+    procs = Procs(domain, str(tmp_path_factory.mktemp('reach')))
     procs.start_arm('free_running')
     probe = Probe(domain)
     try:
@@ -110,7 +110,6 @@ def test_far_target_is_refused_at_once_and_the_next_is_reached(arm):
         k = int(np.argmin([abs(d - asked) for _, d in sent]))
         assert abs(sent[k][1] - asked) < 5e-4, (asked, sent[k])
         delays.append(t_log - sent[k][0])
-    print('delays', delays, {k: v for k, v in probe.diagnostics.items() if 'period' in k})
     print(f'far target: {len(warns)} warnings, {max(delays) * 1e3:.1f} ms after their target '
           f'at worst; the arm moved {moved * 1e3:.3f} mm')
     # the controller's log stamp against the stamp of the copy it answers (one clock)
@@ -126,3 +125,35 @@ def test_far_target_is_refused_at_once_and_the_next_is_reached(arm):
     print(f'near target: reached in {took} s, {err * 1e3:.3f} mm left')
     assert took is not None and took < 3.0, f'{err * 1e3:.1f} mm from the target after 4 s'
     assert 'Traceback' not in procs.log('controller')
+
+
+def test_an_unreachable_target_inside_the_reach_keeps_the_reference_on_the_leash(arm):
+    """
+    30 cm further out with the same orientation: inside the sphere, out of reach all the same.
+
+    The reference restarts on the leash (WARN), the lasting error is in the log (WARN), and the
+    way back is as from where the arm is.
+    """
+    probe, procs = arm
+    start = probe.ee_pose()
+    stuck = start.copy()
+    stuck[:3, 3] += [-0.3, 0.0, 0.0]
+    assert robot_reach(probe.robot, 'link_7').beyond(stuck[:3, 3]) is None
+    n_lead, n_error = len(_warnings(procs, 'cannot follow')), len(_warnings(procs, 'unreachable?'))
+    probe.send_target('ee', stuck, until=probe.moved_towards(stuck))
+    probe.wait_sim(3.0)
+    short = np.linalg.norm(probe.ee_pose()[:3, 3] - stuck[:3, 3])
+    assert short > 0.05, f'{short * 1e3:.1f} mm short: reachable after all'
+    probe.wait_for(
+        lambda: len(_warnings(procs, 'unreachable?')) > n_error, 10, 'the error in the log'
+    )
+    lead = _warnings(procs, 'cannot follow')[n_lead:]
+    error = _warnings(procs, 'unreachable?')[n_error:]
+    assert lead and "task 'ee'" in lead[0][1] and '50 mm or 0.20 rad' in lead[0][1], lead
+    assert "task 'ee' error" in error[0][1], error
+    t0 = probe.sim_time()
+    probe.send_target('ee', start, until=probe.moved_towards(start))
+    took, err = _reach_time(probe, start, t0, 4.0)
+    print(f'{short * 1e3:.0f} mm short; back in {took} s, {err * 1e3:.3f} mm left')
+    assert took is not None and took < 3.0, f'{err * 1e3:.1f} mm from the target after 4 s'
+    assert 'Traceback' not in procs.log('controller') and 'ERROR' not in procs.log('controller')

@@ -19,12 +19,12 @@ Per task, parameters under ``tasks.<name>.trajectory``: ``enabled`` [true]; Cart
 [5 m/s^3, 15 rad/s^3] ([linear, angular]); joint tasks ``max_velocity`` [half the URDF velocity
 limits], ``max_acceleration`` [2 rad/s^2], ``max_jerk`` [20 rad/s^3] (one value or one per joint).
 A target on ``target_pose`` or a joint ``target`` without velocities starts a trajectory from the
-current reference (or, when none runs, from the measured state); ``target_point`` and joint targets
-with velocities are trajectory points already and go to the servo as they are. Holding, resetting
-or expiring a target stops the trajectory. ``max_lead`` [0.2 s]: the reference never leads the
-measured state by more than it covers in this time at ``max_velocity``; beyond, it restarts from
-the measured state (see :mod:`orca_ros.servo.target_trajectory`), and the log says so (WARN, at
-most once a second per task).
+current reference (or, when none runs or the servo does not follow it, from the measured state);
+``target_point`` and joint targets with velocities are trajectory points already and go to the
+servo as they are. Holding, resetting or expiring a target stops the trajectory. ``max_lead``
+[0.2 s]: the reference never leads the measured state by more than it covers in this time at
+``max_velocity``; beyond, it restarts on that leash (see :mod:`orca_ros.servo.target_trajectory`),
+and the log says so (WARN, at most once a second per task).
 """
 
 from __future__ import annotations
@@ -70,23 +70,21 @@ class TargetSmoothing:
 
         False when this task takes targets as steps.
 
-        Starts from the running reference, else from the measured state.
+        Starts from the running reference if the servo follows it, else from the measured state.
         """
         gen = self.trajectories.get(name)
         if gen is None:
             return False
         t = self._now()
-        if name in self._running:
-            start = gen.sample(t)
-        elif isinstance(gen, CartesianTrajectory):
+        if isinstance(gen, CartesianTrajectory):
             servo = self.setup.tasks[name].servo_controller()
-            start = (
-                servo.get_current_cartesian_pose(),
-                servo.get_current_cartesian_velocity(),
-                np.zeros(6),
-            )
+            pose = servo.get_current_cartesian_pose()
+            measured = pose, servo.get_current_cartesian_velocity(), np.zeros(6)
         else:
-            start = self._q.copy(), self._v.copy(), np.zeros(self.n)
+            measured = self._q.copy(), self._v.copy(), np.zeros(self.n)
+        # from the robot, not from a reference the servo does not follow (on the leash, ahead)
+        following = name in self._running and gen.following(t, measured[0])
+        start = gen.sample(t) if following else measured
         gen.start(t, *start, target)
         self._running.add(name)
         return True
@@ -109,12 +107,9 @@ class TargetSmoothing:
             restarts = gen.restarts
             if isinstance(task, CartesianTask):
                 servo = task.servo_controller()
-                ref = gen.follow(
-                    t, servo.get_current_cartesian_pose(), servo.get_current_cartesian_velocity()
-                )
-                servo.set_desired(*ref)
+                servo.set_desired(*gen.follow(t, servo.get_current_cartesian_pose()))
             else:
-                task.set_desired(*gen.follow(t, self._q, self._v))
+                task.set_desired(*gen.follow(t, self._q))
             if gen.restarts != restarts:
                 bound = _lead_text(gen, isinstance(task, CartesianTask))
                 self.say(

@@ -36,9 +36,15 @@ within millimetres (the shipped arm: a few mm at most at 0.25 m/s, kp 400 with f
 inside it; a servo that cannot (a target out of reach, a constraint in the way) would leave the
 reference running on towards the target, and the next target would start from there, metres away
 and at full speed. Instead the part (position, orientation; or joint) beyond the bound restarts
-from the measured state: the measured velocity, no acceleration, and the position the bound towards
-the old reference (the servo's pull stays what it was at the bound: no jolt, no sawtooth), with the
-same target. A new target then starts within the bound of the robot.
+from the measured position, moved the bound towards the old reference, at rest (no velocity, no
+acceleration), to the same target; the rest goes on as it was. The servo then pulls with its gain
+times the bound and damps the robot's own velocity: a steady pull, no jolt back to nothing and no
+sawtooth (from exactly the measured state the pull would drop to zero at each restart), and no
+reference dragged along by a robot moving away (from the measured velocity, the servo's damping
+would vanish: seen through the nodes, the stretched arm wandered off by a metre). ``following``
+tells whether the servo follows (no restart in the last ``max_lead`` seconds, the lead at most half
+the bound); when it does not, a new target is best started from the measured state, not from the
+reference on the leash ahead of it.
 """
 
 from __future__ import annotations
@@ -117,7 +123,7 @@ class _Profile:
         self._rest = None
         try:
             res = self._otg.calculate(inp, self._traj)
-        except self._rk.RuckigError as exc:
+        except (self._rk.RuckigError, ValueError) as exc:  # ValueError: a code unknown to Python
             res, why = None, str(exc).strip().splitlines()[0]
         ok = res in (self._rk.Result.Working, self._rk.Result.Finished)
         if not ok:
@@ -147,16 +153,39 @@ class _Profile:
         return self.t0 is None or t - self.t0 >= self.duration
 
 
-class JointTrajectory:
+class _Leashed:
+    """The lead bound and the restarts of both trajectories (see the module)."""
+
+    def _leash(self, max_lead) -> None:
+        self.max_lead = float(checked_limits(max_lead, 1, 'max_lead')[0])
+        self.lead = self.max_lead * self.vmax
+        self.restarts = 0  # restarts from the measured state (follow)
+        self.restarted_at = -np.inf  # time of the last restart
+
+    def following(self, t: float, measured) -> bool:
+        """
+        Whether the servo follows: no restart in the last ``max_lead`` s, half the bound at most.
+
+        ``measured``: the joint positions, or the frame's pose.
+        """
+        return t - self.restarted_at > self.max_lead and self._lead(t, measured) <= 0.5
+
+    def _restart(self, t, position, velocity, acceleration, **how) -> None:
+        """Plan again to the target from a state on the leash."""
+        self.start(t, position, velocity, acceleration, self._target, **how)
+        self.restarts += 1
+        self.restarted_at = t
+
+
+class JointTrajectory(_Leashed):
     def __init__(self, n: int, max_velocity, max_acceleration, max_jerk, max_lead=MAX_LEAD):
         self.vmax = checked_limits(max_velocity, n, 'max_velocity')
         self.amax = checked_limits(max_acceleration, n, 'max_acceleration')
         self.jmax = checked_limits(max_jerk, n, 'max_jerk')
-        self.lead = float(checked_limits(max_lead, 1, 'max_lead')[0]) * self.vmax
+        self._leash(max_lead)
         self._p = _Profile(n)
         self._target = np.zeros(n)
         self.active = False
-        self.restarts = 0  # restarts from the measured state (follow)
 
     def start(self, t, position, velocity, acceleration, target, synchronized=True) -> float:
         """
@@ -172,11 +201,11 @@ class JointTrajectory:
         self.active = True
         return d
 
-    def follow(self, t: float, position, velocity):
+    def follow(self, t: float, position):
         """
         (q, qd, qdd) at time t, within the lead bound of the measured ``position``.
 
-        The joints further ahead restart from the measured state (see the module).
+        The joints further ahead restart on the leash, at rest (see the module).
         """
         q, qd, qdd = self.sample(t)
         position = np.asarray(position, dtype=float)
@@ -184,13 +213,15 @@ class JointTrajectory:
         if q0 is None:
             return q, qd, qdd
         ahead = np.abs(q - position) > self.lead  # the others go on as they were
-        q0, qd = np.where(ahead, q0, q), np.where(ahead, velocity, qd)
-        qdd = np.where(ahead, 0.0, qdd)
+        q0, qd, qdd = np.where(ahead, q0, q), np.where(ahead, 0.0, qd), np.where(ahead, 0.0, qdd)
         # unsynchronised: a stuck joint must not hold the others back (synchronised, they would
         # slow down to arrive with it, and never arrive)
-        self.start(t, q0, qd, qdd, self._target, synchronized=False)
-        self.restarts += 1
+        self._restart(t, q0, qd, qdd, synchronized=False)
         return self.sample(t)
+
+    def _lead(self, t, position) -> float:
+        """Return the reference's lead on ``position`` at t, in bounds (1: on the leash)."""
+        return float((np.abs(self.sample(t)[0] - position) / self.lead).max())
 
     def sample(self, t: float):
         """(q, qd, qdd) at time t (the target, at rest, after the end)."""
@@ -200,7 +231,7 @@ class JointTrajectory:
         return self._p.done(t)
 
 
-class CartesianTrajectory:
+class CartesianTrajectory(_Leashed):
     def __init__(self, max_velocity, max_acceleration, max_jerk, max_lead=MAX_LEAD):
         """
         Limits as [linear, angular] pairs (m/s, rad/s; m/s^2, rad/s^2; m/s^3, rad/s^3).
@@ -210,9 +241,8 @@ class CartesianTrajectory:
         self.vmax = checked_limits(max_velocity, 2, 'max_velocity [linear, angular]')
         self.amax = checked_limits(max_acceleration, 2, 'max_acceleration [linear, angular]')
         self.jmax = checked_limits(max_jerk, 2, 'max_jerk [linear, angular]')
-        self.lead = float(checked_limits(max_lead, 1, 'max_lead')[0]) * self.vmax
+        self._leash(max_lead)
         self._target = np.eye(4)
-        self.restarts = 0  # restarts from the measured state (follow)
         self._lin = _Profile(3, 'Phase')
         self._ang = _Profile(1)
         self._R0 = np.eye(3)
@@ -231,8 +261,12 @@ class CartesianTrajectory:
         d = target[:3, 3] - pose[:3, 3]
         dist = float(np.linalg.norm(d))
         # per-axis limits in proportion to the direction: from rest, a straight line within the
-        # norm limits
+        # norm limits. A start velocity across it (a measured one) gets its share too, or braking
+        # it on an axis with a thousandth of the limits takes longer than Ruckig plans (-101)
         share = np.abs(d) / dist if dist > 1e-9 else np.full(3, 1.0 / np.sqrt(3.0))
+        speed = float(np.linalg.norm(twist[:3]))
+        if speed > 1e-6:
+            share = np.maximum(share, np.abs(twist[:3]) / speed)
         share = np.maximum(share, 1e-3)
         lin = self._lin.plan(
             t,
@@ -263,31 +297,34 @@ class CartesianTrajectory:
         self.active = True
         return max(lin, ang)
 
-    def follow(self, t: float, pose, twist):
+    def follow(self, t: float, pose):
         """
         (pose, twist, acceleration) at time t, within the lead bound of the measured ``pose``.
 
-        The position or orientation further ahead restarts from the measured state (``twist``
-        measured; see the module).
+        The position or orientation further ahead restarts on the leash, at rest (see the module).
         """
         ref, v, a = self.sample(t)
         pose = np.asarray(pose, dtype=float)
         p0 = leashed(ref[:3, 3], pose[:3, 3], self.lead[0])
-        turn = pin.log3(pose[:3, :3].T @ ref[:3, :3])  # the reference's lead, measured frame
-        r0 = leashed(turn, np.zeros(3), self.lead[1])
+        r0 = leashed(_turn(pose, ref), np.zeros(3), self.lead[1])
         if p0 is None and r0 is None:
             return ref, v, a
         start = ref.copy()
         for part, rows, fix in ((p0, slice(0, 3), 0), (r0, slice(3, 6), 1)):
             if part is not None:
-                v[rows], a[rows] = np.asarray(twist, dtype=float)[rows], 0.0
+                v[rows], a[rows] = 0.0, 0.0
                 if fix:
                     start[:3, :3] = pose[:3, :3] @ pin.exp3(part)
                 else:
                     start[:3, 3] = part
-        self.start(t, start, v, a, self._target)
-        self.restarts += 1
+        self._restart(t, start, v, a)
         return self.sample(t)
+
+    def _lead(self, t, pose) -> float:
+        """Return the reference's lead on ``pose`` at t, in bounds (1: on the leash)."""
+        ref = self.sample(t)[0]
+        lin = np.linalg.norm(ref[:3, 3] - np.asarray(pose)[:3, 3]) / self.lead[0]
+        return float(max(lin, np.linalg.norm(_turn(pose, ref)) / self.lead[1]))
 
     def sample(self, t: float):
         """(pose 4x4, twist 6, acceleration 6) at time t, base frame, [linear; angular]."""
@@ -305,3 +342,8 @@ class CartesianTrajectory:
 
     def finished(self, t: float) -> bool:
         return self._lin.done(t) and self._ang.done(t)
+
+
+def _turn(pose, ref) -> np.ndarray:
+    """Rotation vector from ``pose``'s orientation to ``ref``'s, in ``pose``'s frame."""
+    return pin.log3(np.asarray(pose)[:3, :3].T @ ref[:3, :3])
