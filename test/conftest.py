@@ -228,10 +228,13 @@ def quadruped_push():
     """
     Push the example's standing quadruped (PyBullet, 1 kHz) on its trunk at 0.5 s.
 
-    ``push(gain=None, force=100.0, duration=0.1, seconds=2.0, solver='daqp', **settings)``:
-    ``force`` [N] a number (along y) or a 3-vector, for ``duration`` s; ``gain`` the feet's
-    velocity feedback gain (None: the example's); settings: the example's
-    (``QuadrupedController``). Returns a namespace: ``failures`` (failed cycles),
+    ``push(gain=None, force=100.0, duration=0.1, seconds=2.0, solver='daqp', shipped=False,
+    offset=None, **settings)``: ``force`` [N] a number (along y) or a 3-vector, for ``duration``
+    s; ``gain`` the feet's velocity feedback gain (None: the example's); settings: the example's
+    (``QuadrupedController``); ``shipped``: the controller of config/quadruped_controller.yaml
+    instead, as the node builds it; ``offset``: the trunk's target moved by it at 0.5 s. Returns a
+    namespace: ``room`` (the least distance of the CoM inside the feet's polygon after 0.5 s [m],
+    negative outside), ``failures`` (failed cycles),
     ``failures_in_time`` (failed cycles whose update ended within the cycle's time budget: the
     budget, not a busy machine, cut them), ``longest_failed_run``, ``codes`` (return codes of the
     failed cycles), ``relaxed`` (cycles the elastic contacts carried), ``max_tilt`` (largest angle
@@ -247,18 +250,39 @@ def quadruped_push():
         STAND_HEIGHT,
         state_from_sim,
     )
+    from orca_ros.constraint.balance_constraint import polygon_room
     from orca_ros.sim import SimServer
 
-    def push(gain=None, force=100.0, duration=0.1, seconds=2.0, solver='daqp', **settings):
-        robot = make_robot()
-        qc = QuadrupedController(robot, solver, **settings)
+    def shipped_controller():
+        import yaml
+        from orca_ros.configuration import build_from_config
+        from orca_ros.math import make_transform
+
+        with open(orca.share_path('config', 'quadruped_controller.yaml')) as fh:
+            setup = build_from_config(yaml.safe_load(fh)['orca_controller']['ros__parameters'])
+        c = setup.controller
+        for name, active in setup.initially_active.items():  # as the node does
+            if active:
+                (c.get_task(name) if name in setup.tasks else c.get_constraint(name)).activate()
+        base = setup.tasks['base'].servo_controller()
+        return setup.robot, SimpleNamespace(
+            controller=c, update=c.update,
+            set_base_target=lambda p: base.set_desired(make_transform(p)))
+
+    def push(gain=None, force=100.0, duration=0.1, seconds=2.0, solver='daqp', shipped=False,
+             offset=None, **settings):
+        if shipped:
+            robot, qc = shipped_controller()
+        else:
+            robot = make_robot()
+            qc = QuadrupedController(robot, solver, **settings)
         if gain is not None:
             for leg in LEGS:
                 qc.contacts[leg].set_velocity_feedback_gain(gain)
         force = [0.0, force, 0.0] if np.ndim(force) == 0 else list(force)
         home = np.array([0.0, 0.0, STAND_HEIGHT])
         r = SimpleNamespace(failures=0, failures_in_time=0, longest_failed_run=0, codes=[],
-                            relaxed=0, max_tilt=0.0, slide=0.0, base=None,
+                            relaxed=0, max_tilt=0.0, slide=0.0, base=None, room=np.inf,
                             budget=qc.controller.get_solver_budget())
         run, feet0 = 0, None
         with SimServer(time_step=0.001) as server:
@@ -267,7 +291,7 @@ def quadruped_push():
             for k in range(int(round(seconds / dt))):
                 t = k * dt
                 state_from_sim(robot, sim, by_name)
-                qc.set_base_target(home)
+                qc.set_base_target(home + (offset if offset is not None and t >= 0.5 else 0.0))
                 budget = qc.controller.get_solver_budget()[0] or dt
                 t0 = time.perf_counter()
                 ok = qc.update(t, dt)
@@ -290,6 +314,8 @@ def quadruped_push():
                     feet0 = feet
                 if feet0 is not None:
                     r.slide = max(r.slide, float(np.linalg.norm(feet - feet0, axis=1).max()))
+                if t >= 0.5:
+                    r.room = min(r.room, polygon_room(feet, robot.get_center_of_mass()[:2]))
             r.base = sim.get_world_to_base_transform()[:3, 3]
         return r
 

@@ -23,6 +23,7 @@ cycles from 0.9 s, trunk on the ground). With it the CoM stops at the shrunk pol
 import numpy as np
 import orca_ros as orca
 from orca_ros.constraint import convex_hull_2d
+from orca_ros.constraint.balance_constraint import polygon_room
 from orca_ros.examples.quadruped import (
     insert_standing,
     LEGS,
@@ -36,15 +37,6 @@ from orca_ros.sim import SimServer
 import pytest
 
 
-def _room(points, p):
-    """Signed distance of p inside the convex hull of points (negative outside)."""
-    hull = convex_hull_2d(points)
-    e = np.roll(hull, -1, axis=0) - hull
-    n = np.column_stack((e[:, 1], -e[:, 0]))
-    n /= np.linalg.norm(n, axis=1)[:, None]
-    return float(np.min(np.einsum('ij,ij->i', n, hull) - n @ p))
-
-
 def _run(balance: bool, offset, seconds: float = 3.0):
     robot = make_robot()
     qc = QuadrupedController(robot, 'daqp')
@@ -52,6 +44,7 @@ def _run(balance: bool, offset, seconds: float = 3.0):
     qc.base.set_selection_vector([0, 0, 1, 1, 1, 1])  # trunk height and orientation
     com = c.add_task(orca.CoMTask, 'com')
     com.activate()
+    c.remove_constraint('balance')  # the example's: on or off here
     if balance:
         c.add_constraint(orca.BalanceConstraint('balance')).activate()
     home = np.array([0.0, 0.0, STAND_HEIGHT])
@@ -69,7 +62,7 @@ def _run(balance: bool, offset, seconds: float = 3.0):
             sim.set_joint_torque_command(c.get_joint_torque_command(), by_name)
             server.step()
             feet = np.array([sim.get_link_position(f'{leg}_foot')[:2] for leg in LEGS])
-            rooms.append(_room(feet, robot.get_center_of_mass()[:2]))
+            rooms.append(polygon_room(feet, robot.get_center_of_mass()[:2]))
         height = sim.get_world_to_base_transform()[2, 3]
     return failures, np.array(rooms), height, robot.get_center_of_mass() - c0
 
@@ -108,15 +101,15 @@ def test_balance_leaves_a_target_inside_the_polygon_alone():
 
 
 def test_balance_from_yaml():
-    """The shipped quadruped configuration with a balance constraint and lower-level damping."""
+    """The shipped quadruped configuration's balance constraint, its settings; level damping."""
     from orca_ros.configuration.controller_builder import build_from_config, ConfigError
     import yaml
 
     with open(orca.share_path('config', 'quadruped_controller.yaml')) as fh:
         cfg = yaml.safe_load(fh)['orca_controller']['ros__parameters']
     cons = cfg['constraints']
-    cons['names'].append('balance')
-    cons['balance'] = {'type': 'balance', 'margin': 0.05, 'max_acceleration': 3.0}
+    assert 'balance' in cons['names'] and cons['balance']['type'] == 'balance'  # shipped on
+    cons['balance'].update(margin=0.05, max_acceleration=3.0)
     cfg['lower_level_damping'] = 20.0
     setup = build_from_config(cfg)
     bal = setup.controller.get_constraint('balance')

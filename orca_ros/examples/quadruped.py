@@ -18,9 +18,9 @@ stand, shift the base in a sinusoid, lift a foot.
 
 The controller (core API only): four unilateral contacts (friction pyramid, ramped normal force), a
 6-D Cartesian task on the trunk in the world frame, a posture task, a swing-foot task used only
-while a foot is in the air, torque / position / velocity limits. :func:`run_in_pybullet` closes the
-loop on PyBullet and logs what the acceptance tests check (tracking, foot slip, cone margins,
-normal-force steps).
+while a foot is in the air, torque / position / velocity limits, the CoM over the feet (balance).
+:func:`run_in_pybullet` closes the loop on PyBullet and logs what the acceptance tests check
+(tracking, foot slip, cone margins, normal-force steps).
 
 Run: ``python -m orca_ros.examples.quadruped [--scenario stand|shift|lift|all] [--gui] [--solver
 osqp]``
@@ -34,6 +34,7 @@ import numpy as np
 
 from .quadruped_log import dynamics_residual, record_step, RunLog  # noqa: F401 (re-exported)
 from .. import (
+    BalanceConstraint,
     CartesianTask,
     Contact,
     Controller,
@@ -149,6 +150,8 @@ class QuadrupedController:
             joint_braking
         )
         c.add_constraint(JointVelocityLimitConstraint, 'velocity_limit')
+        # the CoM 2 cm inside the feet: lifting a foot leans it 2-3 cm inside the three others
+        c.add_constraint(BalanceConstraint('balance', margin=0.02))
         for obj in [self.base, self.posture, self.torque_limit] + list(self.contacts.values()):
             obj.activate()
         for obj in c.get_constraints():
