@@ -28,6 +28,7 @@ import time
 
 import numpy as np
 import orca_ros as orca
+from orca_ros.robot.reach import robot_reach
 from orca_ros.ros.launch_free import ARM_Q0, free_domain_id, Procs
 from orca_ros.ros.probe import Probe
 import pytest
@@ -253,12 +254,20 @@ def test_target_flood_and_nan_targets(arm):
 
 
 def test_unreachable_then_reachable_target(arm):
+    """
+    A target inside the reach sphere but out of reach: the arm stretched at its limits for 3 s.
+
+    (A target beyond the sphere is ignored outright: test_ros_reach.py.)
+    """
     probe, procs = arm
     far = probe.ee_pose()
-    far[:3, 3] += [2.0, 0.0, 0.0]
+    far[:3, 3] += [-0.3, 0.0, 0.0]
+    assert robot_reach(probe.robot, 'link_7').beyond(far[:3, 3]) is None
     n0 = len(probe.commands)
     probe.send_target('ee', far, until=probe.moved_towards(far))
     probe.wait_sim(3.0)
+    short = np.linalg.norm(probe.ee_pose()[:3, 3] - far[:3, 3])
+    assert short > 0.05, f'{short * 1e3:.1f} mm short: reachable after all'
     commands_sane(probe, n0)
     # back to a reachable pose near the start: reached although the arm spent 3 s stretched at its
     # limits
