@@ -56,7 +56,7 @@ REGULARISATION = 1e-4
 
 
 def elastic_solver(solver) -> QPSolver:
-    """The solver of the elastic problem: an active-set one where installed (module docstring)."""
+    """Pick the solver of the elastic problem: an active-set one where installed (see above)."""
     for s in (QPSolver.DAQP, QPSolver.PROXQP):
         if installed(s):
             return s

@@ -280,7 +280,7 @@ class Probe:
         pub = self.pub_target[key]
         # a message published before discovery matched the controller's subscription is lost
         self.wait_for(
-            lambda: pub.get_subscription_count() > 0, 10.0, f"a subscriber on {task}'s {topic}"
+            lambda: pub.get_subscription_count() > 0, 60.0, f"a subscriber on {task}'s {topic}"
         )
         return pub
 
