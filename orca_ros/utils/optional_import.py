@@ -29,6 +29,7 @@ PIP = {
     'pybullet': 'pybullet==3.2.7',
     'rosbags': 'rosbags==0.11.9',
     'numba': 'numba==0.68.1',
+    'viser': 'viser==1.1.1',
 }
 
 

@@ -1,0 +1,221 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+``web_view``: a live 3-D view of the robot and its Cartesian targets in the browser (viser).
+
+The robot comes from ``robot_description`` (the latched topic; or the ``urdf_path`` parameter),
+moved by ``joint_states`` (and ``odom`` with ``floating_base: true``). For every Cartesian task
+of the controller (found by its ``<controller>/tasks/<name>/current_pose`` topic, so tasks of a
+restarted or reconfigured controller appear by themselves) the page shows the current pose (a
+magenta ball with axes) and the target as a gizmo: dragging it publishes
+``<controller>/tasks/<name>/target_pose`` in the frame the controller reports the task in, so the
+controller's own checks (frames, reach, smoothing) apply to it as to any other sender; a target
+sent by anyone else moves the gizmo.
+
+Parameters: ``host`` (127.0.0.1), ``port`` (8080; the next free one when taken), ``controller``
+(``/orca_controller``), ``rate`` (30 Hz, scene updates), ``floating_base`` (false),
+``gizmo_scale`` (0.2 m), ``camera_position`` / ``camera_look_at`` / ``camera_fov`` (a tab's
+first view; fov in degrees), ``urdf_path`` (empty: the topic).
+"""
+
+from __future__ import annotations
+
+import re
+import sys
+import threading
+import time
+
+from geometry_msgs.msg import PoseStamped
+from nav_msgs.msg import Odometry
+import numpy as np
+from rclpy.qos import qos_profile_sensor_data
+from sensor_msgs.msg import JointState
+from std_msgs.msg import String
+
+from .common import DEFAULT_QOS, DESCRIPTION_QOS, matrix_to_pose, param, pose_to_matrix, run_node
+from .guarded_node import GuardedNode
+from ..utils.optional_import import MissingDependency, optional_import
+from ..view.gizmos import GizmoBook
+
+POSE_TYPE = 'geometry_msgs/msg/PoseStamped'
+
+
+class WebView(GuardedNode):
+    def __init__(self, **kwargs):
+        super().__init__(
+            'web_view', automatically_declare_parameters_from_overrides=True, **kwargs
+        )
+        from ..view.page import Page  # noqa: PLC0415 - viser: only when the node runs
+
+        self.ns = str(param(self, 'controller', '/orca_controller')).rstrip('/')
+        self.floating = bool(param(self, 'floating_base', False))
+        camera = None
+        position = list(param(self, 'camera_position', []) or [])
+        if len(position) == 3:
+            look_at = list(param(self, 'camera_look_at', [0.0, 0.0, 0.5]))
+            camera = (position, look_at, np.radians(float(param(self, 'camera_fov', 50.0))))
+        self.page = Page(
+            str(param(self, 'host', '127.0.0.1')), int(param(self, 'port', 8080)),
+            float(param(self, 'gizmo_scale', 0.2)), camera,
+        )
+        self.get_logger().info(f'web view at {self.page.url}')
+        print(f'web view: {self.page.url}', flush=True)
+        self.lock = threading.Lock()
+        self.book = GizmoBook(min_period=0.05)
+        self.scene = None
+        self._description = None
+        self._positions: dict = {}
+        self._base_pose = None
+        self._state_changed = False
+        self._target_pubs: dict = {}
+        self._pattern = re.compile(rf'^{re.escape(self.ns)}/tasks/([^/]+)/current_pose$')
+        urdf_path = str(param(self, 'urdf_path', ''))
+        if urdf_path:
+            from ..configuration import resolve_urdf_path  # noqa: PLC0415
+
+            path = resolve_urdf_path(urdf_path)
+            with open(path) as fh:
+                self._load(fh.read(), path)
+        self.create_subscription(
+            String, 'robot_description', lambda m: self._load(m.data, ''), DESCRIPTION_QOS
+        )
+        self.create_subscription(JointState, 'joint_states', self._on_state,
+                                 qos_profile_sensor_data)
+        if self.floating:
+            self.create_subscription(Odometry, 'odom', self._on_odom, qos_profile_sensor_data)
+        self.create_timer(1.0 / float(param(self, 'rate', 30.0)), self._redraw)
+        self.create_timer(0.5, self._discover_tasks)
+        self._discover_tasks()
+
+    # ------------------------------------------------------------------ robot
+    def _load(self, text: str, path: str) -> None:
+        if text == self._description:
+            return
+        from ..view.robot_scene import RobotScene  # noqa: PLC0415
+
+        try:
+            scene = RobotScene(text, path, self.floating)
+        except (ValueError, OSError) as exc:
+            self.say('error', 'description', f'robot description not shown: {exc}')
+            return
+        with self.lock:
+            self.scene, self._description = scene, text
+            self._state_changed = True
+            self.page.set_robot(scene.visuals)
+        self.get_logger().info(
+            f'robot: {len(scene.visuals)} visuals, joints {", ".join(scene.joint_names)}'
+        )
+
+    def _on_state(self, msg: JointState) -> None:
+        if len(msg.position) != len(msg.name):
+            self.say('warning', 'state', 'joint state ignored: names and positions differ in size')
+            return
+        with self.lock:
+            self._positions.update(zip(msg.name, msg.position))
+            self._state_changed = True
+
+    def _on_odom(self, msg: Odometry) -> None:
+        p, o = msg.pose.pose.position, msg.pose.pose.orientation
+        with self.lock:
+            self._base_pose = (np.array([p.x, p.y, p.z]), np.array([o.x, o.y, o.z, o.w]))
+            self._state_changed = True
+
+    def _redraw(self) -> None:
+        with self.lock:
+            if self.scene is None or not self._state_changed:
+                return
+            self._state_changed = False
+            self.scene.update(self._positions, self._base_pose)
+            poses = self.scene.visual_poses()
+        self.page.place_robot(poses)
+
+    def _world_from(self, frame: str) -> np.ndarray:
+        """World pose of a frame of the model ('' or unknown model: the identity)."""
+        if self.scene is None or not frame:
+            return np.eye(4)
+        return self.scene.frame_pose(frame)
+
+    # ------------------------------------------------------------------ tasks
+    def _discover_tasks(self) -> None:
+        for topic, types in self.get_topic_names_and_types():
+            m = self._pattern.match(topic)
+            if m is None or POSE_TYPE not in types or m.group(1) in self._target_pubs:
+                continue
+            name = m.group(1)
+            base = f'{self.ns}/tasks/{name}'
+            self._target_pubs[name] = self.create_publisher(
+                PoseStamped, f'{base}/target_pose', DEFAULT_QOS
+            )
+            self.create_subscription(
+                PoseStamped, f'{base}/current_pose', lambda msg, n=name: self._on_current(n, msg),
+                DEFAULT_QOS,
+            )
+            self.create_subscription(
+                PoseStamped, f'{base}/target_pose', lambda msg, n=name: self._on_target(n, msg),
+                DEFAULT_QOS,
+            )
+            self.get_logger().info(f"task '{name}': its target draggable on the page")
+
+    def _on_current(self, name: str, msg: PoseStamped) -> None:
+        with self.lock:
+            frame = msg.header.frame_id
+            world_from_frame = self._world_from(frame)
+            first = self.book.on_current(name, pose_to_matrix(msg.pose), frame, world_from_frame)
+            current, target = self.book.tasks[name].current, self.book.tasks[name].target
+        if first or not self.page.has_task(name):
+            self.page.add_task(name, target, self._on_drag)
+        self.page.set_current(name, current)
+
+    def _on_target(self, name: str, msg: PoseStamped) -> None:
+        with self.lock:
+            frame = msg.header.frame_id or self.book.task(name).frame_id
+            try:
+                world = self._world_from(frame) @ pose_to_matrix(msg.pose)
+            except ValueError as exc:
+                self.say('warning', f'target:{name}', f"target of '{name}' not shown: {exc}")
+                return
+            moved = self.book.on_target(name, world)
+        if moved and self.page.has_task(name):
+            self.page.set_target(name, world)
+
+    def _on_drag(self, name: str, phase: str, world_pose: np.ndarray) -> None:
+        """Send a drag on the page (viser's thread) as a target on the controller's topic."""
+        with self.lock:
+            frame = self.book.task(name).frame_id
+            pose = self.book.on_drag(name, phase, world_pose, time.monotonic(),
+                                     self._world_from(frame))
+        if pose is None:
+            return
+        msg = PoseStamped()
+        msg.header.stamp = self.get_clock().now().to_msg()
+        msg.header.frame_id = frame
+        matrix_to_pose(pose, msg.pose)
+        self._target_pubs[name].publish(msg)
+
+    def destroy_node(self):
+        self.page.stop()
+        return super().destroy_node()
+
+
+def main(args=None) -> int:
+    try:
+        optional_import('viser', 'web_view')
+    except MissingDependency as exc:
+        print(exc, file=sys.stderr)
+        return 1
+    return run_node(WebView, args)
+
+
+if __name__ == '__main__':
+    sys.exit(main())

@@ -1,0 +1,119 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+The page on viser: the robot's meshes, and per Cartesian task a target gizmo and its current pose.
+
+Viser keeps the scene on the server and sends it whole to each tab that connects, so every tab
+(and a reloaded one) shows the current state; a drag in one tab moves the gizmo in the others.
+Viser is an optional dependency, imported through :func:`orca_ros.utils.optional_import`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .gizmos import to_matrix, to_position_wxyz
+from ..utils.optional_import import optional_import
+
+CURRENT_COLOR = (230, 0, 230)  # the current pose's marker: a magenta ball with axes
+
+
+def _rgb(rgba) -> tuple[int, int, int]:
+    return tuple(int(round(255 * min(max(c, 0.0), 1.0))) for c in rgba[:3])
+
+
+class Page:
+    def __init__(self, host: str = '127.0.0.1', port: int = 8080, gizmo_scale: float = 0.2,
+                 camera=None):
+        """
+        Start the page's server (viser picks the next free port when ``port`` is taken).
+
+        ``camera``: (position, look_at, vertical field of view [rad]) of a tab that connects,
+        None: viser's default.
+        """
+        viser = optional_import('viser', 'web_view')
+        self.server = viser.ViserServer(host=host, port=port, verbose=False)
+        self.server.scene.set_up_direction('+z')
+        if camera is not None:
+            position, look_at, fov = camera
+            cam = self.server.initial_camera
+            cam.position, cam.look_at, cam.fov = tuple(position), tuple(look_at), float(fov)
+        self.gizmo_scale = float(gizmo_scale)
+        self._meshes: list = []
+        self._tasks: dict = {}  # name -> (gizmo handle, current-pose frame handle)
+        self.server.scene.add_grid('/grid', width=2.0, height=2.0, cell_size=0.1)
+
+    @property
+    def url(self) -> str:
+        host = self.server.get_host()
+        host = 'localhost' if host in ('0.0.0.0', '::', '') else host
+        return f'http://{host}:{self.server.get_port()}'
+
+    def set_robot(self, visuals) -> None:
+        """Replace the robot's meshes (:class:`~.robot_scene.Visual` list)."""
+        with self.server.atomic():
+            for handle in self._meshes:
+                handle.remove()
+            self._meshes = [
+                self.server.scene.add_mesh_simple(
+                    f'/robot/{k}_{v.name}', v.vertices, v.faces, color=_rgb(v.rgba),
+                    opacity=None if v.rgba[3] >= 1.0 else float(v.rgba[3]), side='double',
+                )
+                for k, v in enumerate(visuals)
+            ]
+
+    def place_robot(self, poses) -> None:
+        """Move the meshes to their world poses (4x4 each, in the order of :meth:`set_robot`)."""
+        with self.server.atomic():
+            for handle, T in zip(self._meshes, poses):
+                handle.position, handle.wxyz = to_position_wxyz(T)
+
+    def has_task(self, name: str) -> bool:
+        return name in self._tasks
+
+    def add_task(self, name: str, pose: np.ndarray, on_drag) -> None:
+        """
+        Add a task's target gizmo and current-pose marker at ``pose`` (world).
+
+        ``on_drag(name, phase, world_pose)`` is called for each drag event of any tab.
+        """
+        position, wxyz = to_position_wxyz(pose)
+        gizmo = self.server.scene.add_transform_controls(
+            f'/tasks/{name}/target', scale=self.gizmo_scale, position=position, wxyz=wxyz,
+            depth_test=False,
+        )
+        current = self.server.scene.add_frame(
+            f'/tasks/{name}/current', axes_length=0.4 * self.gizmo_scale,
+            axes_radius=0.02 * self.gizmo_scale, origin_radius=0.2 * self.gizmo_scale,
+            origin_color=CURRENT_COLOR, position=position, wxyz=wxyz,
+        )
+
+        def moved(event):
+            h = event.target
+            on_drag(name, event.phase, to_matrix(h.position, h.wxyz))
+
+        gizmo.on_update(moved)
+        self._tasks[name] = (gizmo, current)
+
+    def set_current(self, name: str, pose: np.ndarray) -> None:
+        self._tasks[name][1].position, self._tasks[name][1].wxyz = to_position_wxyz(pose)
+
+    def set_target(self, name: str, pose: np.ndarray) -> None:
+        self._tasks[name][0].position, self._tasks[name][0].wxyz = to_position_wxyz(pose)
+
+    def clients(self) -> int:
+        return len(self.server.get_clients())
+
+    def stop(self) -> None:
+        self.server.stop()

@@ -1,0 +1,331 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+The web view in a real browser (issue 23): Debian's headless Chromium driven by its chromedriver.
+
+One lockstep run of the shipped arm with ``web_view`` beside it; the page is seen through
+screenshots and driven by pointer events at the places the page's camera projects the scene to.
+"""
+
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+
+import numpy as np
+from orca_ros.ros.launch_free import free_domain_id, Procs
+from orca_ros.ros.probe import Probe
+import pytest
+
+CHROMIUM, CHROMEDRIVER = '/usr/bin/chromium', '/usr/bin/chromedriver'
+# the page's first view (the node's camera parameters) and the gizmo's size
+CAMERA = ([0.3, -2.0, 0.9], [-0.35, 0.0, 0.4], 50.0)
+GIZMO = 0.3
+MAGENTA = np.array([230, 0, 230])
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(('127.0.0.1', 0))
+        return s.getsockname()[1]
+
+
+def _chromium(profile):
+    """Headless Chromium under chromedriver, closed network, a fresh profile."""
+    if not (os.path.exists(CHROMIUM) and os.path.exists(CHROMEDRIVER)):
+        msg = (f'{CHROMIUM} and {CHROMEDRIVER} needed (Debian: apt-get install chromium '
+               'chromium-driver; scripts/run_tests.sh installs them when run as root)')
+        if os.environ.get('CI', '').lower() in ('true', '1', 'yes'):
+            pytest.fail(msg)
+        pytest.skip(msg)
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = CHROMIUM
+    for flag in ('--headless', '--no-sandbox', '--disable-gpu', '--disable-quic',
+                 '--no-first-run', '--disable-background-networking',
+                 '--disable-component-update', '--disable-sync', '--enable-unsafe-swiftshader',
+                 f'--user-data-dir={profile}', '--window-size=1100,760'):
+        opts.add_argument(flag)
+    return webdriver.Chrome(options=opts, service=Service(CHROMEDRIVER))
+
+
+class Tab:
+    """The page in the browser's current tab: screenshots and the camera's projection."""
+
+    def __init__(self, driver):
+        self.d = driver
+
+    def wait(self, predicate, timeout, what):
+        t0 = time.time()
+        while time.time() - t0 < timeout:
+            if predicate():
+                return
+            time.sleep(0.2)
+        raise AssertionError(f'timed out after {timeout} s waiting for {what}')
+
+    def canvas(self):
+        """Left, top, width, height of the 3-D view (the largest canvas)."""
+        return self.d.execute_script(
+            'let r = null; for (const c of document.querySelectorAll("canvas")) {'
+            ' const b = c.getBoundingClientRect();'
+            ' if (!r || b.width * b.height > r.width * r.height) r = b; }'
+            ' return r ? [r.left, r.top, r.width, r.height] : null;'
+        )
+
+    def connected(self) -> bool:
+        rect = self.canvas()
+        return bool(rect and rect[2] > 100) and 'Connected' in self.d.page_source
+
+    def shot(self, path=None) -> np.ndarray:
+        """Return what the tab shows (RGB array), notifications hidden (they cover the view)."""
+        from io import BytesIO
+
+        from PIL import Image
+
+        self.d.execute_script(
+            'document.querySelectorAll(".mantine-Notifications-root")'
+            '.forEach(e => e.style.display = "none");'
+        )
+        png = self.d.get_screenshot_as_png()
+        if path:
+            with open(path, 'wb') as fh:
+                fh.write(png)
+        return np.asarray(Image.open(BytesIO(png)).convert('RGB')).astype(int)
+
+    def project(self, p) -> np.ndarray:
+        """Pixel (x, y) of world point p seen by the page's camera (vertical fov, +z up)."""
+        left, top, w, h = self.canvas()
+        eye, at = np.array(CAMERA[0]), np.array(CAMERA[1])
+        f = (at - eye) / np.linalg.norm(at - eye)
+        r = np.cross(f, [0.0, 0.0, 1.0])
+        r /= np.linalg.norm(r)
+        u = np.cross(r, f)
+        v = np.asarray(p, dtype=float) - eye
+        t = np.tan(np.radians(CAMERA[2]) / 2.0) * (v @ f)
+        return np.array([left + w / 2 + (v @ r) / t * h / 2, top + h / 2 - (v @ u) / t * h / 2])
+
+    def drag(self, start, end, steps=8):
+        from selenium.webdriver.common.actions.action_builder import ActionBuilder
+
+        ab = ActionBuilder(self.d)
+        ab.pointer_action.move_to_location(int(start[0]), int(start[1])).pointer_down()
+        for k in range(1, steps + 1):
+            x, y = start + (end - start) * k / steps
+            ab.pointer_action.move_to_location(int(round(x)), int(round(y)))
+        ab.pointer_action.pointer_up()
+        ab.perform()
+
+
+def _magenta_centre(img):
+    """Centre (x, y) of the current pose's marker (magenta pixels), None if none."""
+    near = (img[..., 0] > 120) & (img[..., 2] > 120) & (img[..., 1] < 90)
+    near &= np.abs(img[..., 0] - img[..., 2]) < 60
+    ys, xs = np.nonzero(near)
+    return None if xs.size < 10 else np.array([xs.mean(), ys.mean()])
+
+
+def _patch(img, xy, half=6):
+    x, y = int(xy[0]), int(xy[1])
+    return img[y - half:y + half + 1, x - half:x + half + 1]
+
+
+@pytest.fixture(scope='module')
+def run(tmp_path_factory):
+    out = tmp_path_factory.mktemp('web_view')
+    domain = free_domain_id()
+    procs = Procs(domain, str(out))
+    port = _free_port()
+    pos, look, fov = CAMERA
+    procs.start('orca_ros.ros.web_view', '-p', f'port:={port}', '-p', f'gizmo_scale:={GIZMO}',
+                '-p', f'camera_position:={pos}', '-p', f'camera_look_at:={look}',
+                '-p', f'camera_fov:={fov}', name='web_view')
+    driver, probe = None, None
+    try:
+        procs.wait_log('web_view', 'web view: http://', 60)
+        url = procs.log('web_view').split('web view: ')[1].split()[0]
+        driver = _chromium(out / 'profile')
+        tab = Tab(driver)
+        driver.get(url)
+        tab.wait(tab.connected, 60, 'the page connected')
+        time.sleep(1.0)  # the grid drawn (nothing else comes: no robot description yet)
+        empty = tab.shot(out / 'empty.png')
+        procs.start_arm('lockstep')
+        probe = Probe(domain)
+        probe.wait_for(lambda: probe.commands, 60, 'the controller driving the bridge')
+        t0 = probe.sim_time()
+        probe.wait_for(lambda: probe.sim_time() > t0 + 1.5, 60, 'the arm past its start-up')
+        yield {'procs': procs, 'probe': probe, 'tab': tab, 'driver': driver, 'empty': empty,
+               'out': out, 'url': url}
+    finally:
+        if driver is not None:
+            driver.quit()
+        if probe is not None:
+            probe.close()
+        procs.stop()
+        shutil.rmtree(out / 'profile', ignore_errors=True)
+
+
+def _robot_points(probe):
+    """World points in the middle of three links of the arm (not the end effector)."""
+    q = probe.last_state()[1]
+    probe.robot.set_robot_state(q, np.zeros(7))
+    return [probe.robot.get_frame_pose(f'link_{i}')[:3, 3] + probe.robot.get_frame_pose(
+        f'link_{i}')[:3, :3] @ [0.0, 0.0, 0.1] for i in (1, 2, 3)]
+
+
+def test_the_screenshot_shows_the_robot(run):
+    tab, probe, empty = run['tab'], run['probe'], run['empty']
+    points = [tab.project(p) for p in _robot_points(probe)]
+
+    def robot_drawn():
+        img = tab.shot()
+        return all(np.abs(_patch(img, xy) - _patch(empty, xy)).mean() > 40 for xy in points)
+
+    tab.wait(robot_drawn, 30, 'the robot on the page')
+    img = tab.shot(run['out'] / 'robot.png')
+    diffs = [np.abs(_patch(img, xy) - _patch(empty, xy)).mean() for xy in points]
+    corner = np.abs(img[200:240, 20:60] - empty[200:240, 20:60]).mean()  # far from the robot
+    print(f"screenshot {run['out'] / 'robot.png'}: mean difference {np.round(diffs, 1)} where "
+          f'the links are, {corner:.2f} away from them')
+    assert min(diffs) > 40 and corner < 2.0
+
+
+def _reached(probe, target, tol=1e-3):
+    return np.linalg.norm(probe.ee_pose()[:3, 3] - target[:3, 3]) < tol
+
+
+def _recorder(probe):
+    """Record the targets on the end effector's topic (whoever sends them)."""
+    got = []
+    probe.node.create_subscription(
+        probe.PoseStamped, '/orca_controller/tasks/ee/target_pose', got.append, 10
+    )
+    return got
+
+
+def test_a_drag_of_the_gizmo_moves_the_arm_and_the_current_pose_follows(run):
+    tab, probe = run['tab'], run['probe']
+    from orca_ros.ros.common import pose_to_matrix
+
+    targets = _recorder(probe)
+    start = probe.ee_pose()
+    p0 = start[:3, 3]
+    before = _magenta_centre(tab.shot())
+    assert before is not None and np.linalg.norm(before - tab.project(p0)) < 20, before
+    # the gizmo's axis arrow that looks longest on the screen, dragged along itself towards the
+    # arm's base (inwards: reachable)
+    ends = [tab.project(p0 + 0.85 * GIZMO * start[:3, i]) for i in range(3)]
+    i = int(np.argmax([np.linalg.norm(e - tab.project(p0)) for e in ends]))
+    axis = start[:3, i]
+    on_screen = (ends[i] - tab.project(p0)) / np.linalg.norm(ends[i] - tab.project(p0))
+    sign = 1.0 if axis @ -np.array([p0[0], p0[1], 0.0]) > 0 else -1.0
+    tab.drag(ends[i], ends[i] + sign * 40.0 * on_screen)
+    probe.wait_for(lambda: targets, 10, 'a target from the page')
+    time.sleep(0.5)  # the drag's end: its last target
+    last = targets[-1]
+    goal = pose_to_matrix(last.pose)
+    moved = goal[:3, 3] - p0
+    along = moved @ axis
+    print(f'{len(targets)} targets from the drag; the last {along * 1e3:.1f} mm along the '
+          f'gizmo axis {"xyz"[i]}, {np.linalg.norm(moved - along * axis) * 1e3:.3f} mm across')
+    assert last.header.frame_id == 'base_link'
+    assert 0.03 < sign * along < 0.25, moved
+    assert np.linalg.norm(moved - along * axis) < 1e-3
+    assert np.abs(goal[:3, :3] - start[:3, :3]).max() < 1e-3  # an axis drag keeps the orientation
+    probe.wait_for(lambda: _reached(probe, goal), 60, 'the arm within 1 mm of the target')
+    t_in = probe.sim_time()
+    probe.wait_sim(0.3)
+    err = np.linalg.norm(probe.ee_pose()[:3, 3] - goal[:3, 3])
+    print(f'the arm within 1 mm at t = {t_in:.2f} s; {err * 1e3:.3f} mm 0.3 s later')
+    assert err < 1e-3
+
+    def followed():
+        after = _magenta_centre(tab.shot())
+        shift = tab.project(goal[:3, 3]) - tab.project(p0)
+        return after is not None and np.linalg.norm((after - before) - shift) < 6.0
+
+    tab.wait(followed, 20, 'the current pose marker at the new pose')
+    after = _magenta_centre(tab.shot(run['out'] / 'moved.png'))
+    print(f'current pose marker moved {np.round(after - before, 1)} px; the end effector '
+          f'{np.round(tab.project(goal[:3, 3]) - tab.project(p0), 1)} px')
+    run['goal'] = goal
+
+
+def test_two_tabs_one_closed_and_a_reload_shows_the_current_state(run):
+    procs, probe, tab, driver = run['procs'], run['probe'], run['tab'], run['driver']
+    first = driver.current_window_handle
+    driver.switch_to.new_window('tab')
+    second = driver.current_window_handle
+    driver.get(run['url'])
+    tab.wait(tab.connected, 30, 'the second tab connected')
+    # the second tab shows the state the first one left: the arm at the dragged target
+    goal = run['goal']
+    tab.wait(lambda: _magenta_centre(tab.shot()) is not None, 20, 'the marker in the second tab')
+    there = _magenta_centre(tab.shot())
+    off = np.linalg.norm(there - tab.project(goal[:3, 3]))
+    assert off < 20.0, f'the marker {off:.1f} px from the end effector'
+    # the first tab closed while the arm moves to a new target sent by someone else
+    driver.switch_to.window(first)
+    new = goal.copy()
+    new[:3, 3] += [0.05, 0.0, 0.05]
+    probe.send_target('ee', new)
+    driver.close()
+    driver.switch_to.window(second)
+    t0 = probe.sim_time()
+    probe.wait_for(lambda: _reached(probe, new), 60, 'the arm at the new target')
+    took = probe.sim_time() - t0
+    assert probe.sim_time() > t0 and took < 5.0  # the loop went on at its pace
+    for name in ('web_view', 'controller', 'bridge'):
+        assert 'Traceback' not in procs.log(name), procs.log(name)[-2000:]
+    assert 'ERROR' not in procs.log('controller')
+    assert all(p.poll() is None for p, _, _ in procs.procs), 'a node died'
+    driver.refresh()
+    tab.wait(tab.connected, 30, 'the reloaded tab connected')
+
+    shift = tab.project(new[:3, 3]) - tab.project(goal[:3, 3])
+
+    def shows_new_pose():
+        c = _magenta_centre(tab.shot())
+        return c is not None and np.linalg.norm((c - there) - shift) < 6.0
+
+    tab.wait(shows_new_pose, 20, 'the reloaded tab showing the arm at the new target')
+    c = _magenta_centre(tab.shot(run['out'] / 'reloaded.png'))
+    print(f'second tab: marker {off:.1f} px from the end effector; after the first tab closed '
+          f'the arm reached the next target in {took:.2f} s (sim); after the reload the marker '
+          f'moved {np.round(c - there, 1)} px, the end effector {np.round(shift, 1)} px')
+
+
+def test_without_viser_one_line(tmp_path):
+    """A Python without viser: ``web_view`` says so in one line; the rest imports as before."""
+    (tmp_path / 'viser.py').write_text(
+        "raise ModuleNotFoundError(\"No module named 'viser'\", name='viser')\n"
+    )
+    env = {**os.environ, 'PYTHONPATH': str(tmp_path)}
+    res = subprocess.run(
+        [sys.executable, '-m', 'orca_ros.ros.web_view'], env=env, capture_output=True,
+        text=True, timeout=60,
+    )
+    lines = (res.stdout + res.stderr).strip().splitlines()
+    assert res.returncode == 1
+    assert lines == ["web_view needs the Python package 'viser': pip install viser==1.1.1"]
+    res = subprocess.run(
+        [sys.executable, '-c', 'import orca_ros.ros.web_view, orca_ros.view.page, '
+         'orca_ros.view.robot_scene, orca_ros.ros.controller_node'],
+        env=env, capture_output=True, text=True, timeout=60,
+    )
+    assert res.returncode == 0, res.stderr

@@ -1,0 +1,83 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""The web view's ROS-free parts: the gizmos' bookkeeping and the robot's visual scene."""
+
+import numpy as np
+import orca_ros as orca
+from orca_ros.view.gizmos import GizmoBook, to_matrix, to_position_wxyz
+from orca_ros.view.robot_scene import RobotScene
+
+
+def _pose(xyz, angle=0.0):
+    T = np.eye(4)
+    c, s = np.cos(angle), np.sin(angle)
+    T[:3, :3] = [[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]]
+    T[:3, 3] = xyz
+    return T
+
+
+def test_quaternion_round_trip():
+    T = _pose([0.1, -0.2, 0.3], 0.7)
+    p, wxyz = to_position_wxyz(T)
+    assert np.allclose(wxyz, [np.cos(0.35), 0.0, 0.0, np.sin(0.35)])
+    assert np.allclose(to_matrix(p, wxyz), T)
+
+
+def test_a_drag_is_sent_in_the_task_frame_at_most_every_period_and_always_at_its_end():
+    book = GizmoBook(min_period=0.05)
+    base = _pose([1.0, 0.0, 0.0], np.pi / 2)  # the task's frame in the world
+    assert book.on_current('ee', _pose([0.2, 0.0, 0.5]), 'base_link', base)
+    assert np.allclose(book.tasks['ee'].target, base @ _pose([0.2, 0.0, 0.5]))
+    assert not book.on_current('ee', _pose([0.2, 0.0, 0.5]), 'base_link', base)
+    world = _pose([1.0, 0.3, 0.5], np.pi / 2)
+    assert book.on_drag('ee', 'start', world, 0.0, base) is None
+    sent = book.on_drag('ee', 'update', world, 0.01, base)
+    assert np.allclose(sent, _pose([0.3, 0.0, 0.5]))  # world -> the task's frame
+    assert book.on_drag('ee', 'update', world, 0.03, base) is None  # 20 ms later: too soon
+    assert book.on_drag('ee', 'update', world, 0.07, base) is not None
+    # a target from elsewhere during the drag leaves the gizmo where the hand holds it
+    assert not book.on_target('ee', _pose([0.0, 0.0, 0.0]))
+    end = book.on_drag('ee', 'end', _pose([1.0, 0.4, 0.5], np.pi / 2), 0.071, base)
+    assert np.allclose(end, _pose([0.4, 0.0, 0.5]))
+    assert book.on_target('ee', _pose([0.0, 0.0, 0.0]))  # let go: others move it again
+    assert not book.on_target('ee', np.full((4, 4), np.nan))
+
+
+def test_no_target_before_the_task_frame_is_known():
+    book = GizmoBook()
+    assert book.on_drag('ee', 'end', _pose([0.0, 0.0, 0.0]), 0.0, np.eye(4)) is None
+
+
+def test_the_scene_places_the_arm_as_the_controller_model_does():
+    path = orca.default_urdf_path()
+    with open(path) as fh:
+        scene = RobotScene(fh.read(), path)
+    q = [0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]
+    scene.update(dict(zip(scene.joint_names, q)))
+    robot = orca.RobotModel()
+    robot.load_model_from_file(path)
+    robot.set_robot_state(np.array(q), np.zeros(7))
+    assert len(scene.visuals) == 8 and scene.root_frame == 'base_link'
+    assert np.allclose(scene.frame_pose('link_7'), robot.get_frame_pose('link_7'))
+    # link_7's visual: a cylinder 4 cm in radius, 3 cm long, 1.5 cm above the link's origin
+    vis = scene.visuals[-1]
+    T = scene.visual_poses()[-1]
+    local = np.linalg.solve(robot.get_frame_pose('link_7'), T)
+    assert np.allclose(local[:3, 3], [0.0, 0.0, 0.015])
+    radius = np.linalg.norm(vis.vertices[:, :2], axis=1).max()
+    assert np.isclose(radius, 0.04) and np.isclose(np.ptp(vis.vertices[:, 2]), 0.03)
+    assert np.allclose(vis.rgba, [1.0, 0.45, 0.0, 1.0])
+    # unknown joint names and NaN are left out; the state stays as it was
+    scene.update({'no_joint': 1.0, 'joint_1': float('nan')})
+    assert np.allclose(scene.frame_pose('link_7'), robot.get_frame_pose('link_7'))
