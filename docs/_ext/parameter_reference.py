@@ -1,0 +1,78 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+The controller node's parameter reference, generated from ``orca_ros.ros.parameter_schema``.
+
+A Sphinx extension: the page ``reference/parameters`` is built from ``render()``, whatever its
+file holds, so the site always shows the schema. The committed file carries the same text for
+readers of the repository: ``python docs/_ext/parameter_reference.py`` rewrites it, and
+``test/test_docs_reference.py`` fails while it is out of date or while the table disagrees with
+the schema.
+"""
+
+import os
+import sys
+
+from orca_ros.ros.parameter_schema import markdown
+
+PAGE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), 'reference',
+                    'parameters.md')
+
+HEADER = """# Controller parameters
+
+<!-- generated from orca_ros/ros/parameter_schema.py by docs/_ext/parameter_reference.py at every
+docs build: edit the schema, not this page -->
+
+Every parameter `orca_controller` accepts, as `orca_ros/ros/parameter_schema.py` declares it.
+*live* parameters change at run time with `ros2 param set` (a request is applied whole or refused
+whole, with the reason in the reply); *read-only* ones are fixed once the node runs. `<task>` and
+`<constraint>` stand for the names listed under `tasks.names` and `constraints.names`. The same
+table prints with `python -m orca_ros.ros.parameter_schema`.
+
+"""
+
+
+def render() -> str:
+    """Return the page's Markdown text."""
+    return HEADER + markdown() + '\n'
+
+
+def write_if_changed(path: str = PAGE) -> bool:
+    """Write the page; return True when its text changed."""
+    text = render()
+    if os.path.isfile(path):
+        with open(path) as fh:
+            if fh.read() == text:
+                return False
+    with open(path, 'w') as fh:
+        fh.write(text)
+    return True
+
+
+DOCNAME = 'reference/parameters'
+
+
+def _source_read(app, docname: str, source: list) -> None:
+    if docname == DOCNAME:
+        source[0] = render()
+
+
+def setup(app):
+    """Register the generator with Sphinx."""
+    app.connect('source-read', _source_read)
+    return {'version': '1', 'parallel_read_safe': True, 'parallel_write_safe': True}
+
+
+if __name__ == '__main__':
+    sys.stdout.write(f"{PAGE}: {'rewritten' if write_if_changed() else 'up to date'}\n")

@@ -1,0 +1,35 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""Sphinx configuration of orca_ros's documentation (rosdoc2 reads the same file)."""
+
+import os
+import sys
+import xml.etree.ElementTree as ElementTree
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, '_ext'))
+sys.path.insert(0, os.path.dirname(HERE))  # the package, for autodoc and the generator
+
+project = 'orca_ros'
+author = 'orca_ros developers'
+copyright = '2026, orca_ros developers'
+release = version = ElementTree.parse(os.path.join(HERE, '..', 'package.xml')).find('version').text
+
+extensions = ['myst_parser', 'sphinx.ext.autodoc', 'parameter_reference']
+source_suffix = {'.md': 'markdown', '.rst': 'restructuredtext'}
+exclude_patterns = ['_build']
+myst_heading_anchors = 3
+autodoc_typehints = 'none'
+html_theme = 'alabaster'
+html_static_path = []
