@@ -11,7 +11,7 @@
 # WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
 # See the License for the specific language governing permissions and
 # limitations under the License.
-"""The run-time parameter schema: validation reasons, and the README's table generated from it."""
+"""The run-time parameter schema: validation reasons, and the docs' table generated from it."""
 
 import os
 
@@ -52,9 +52,9 @@ def test_live_values_are_normalised():
     }
 
 
-def test_readme_table_is_generated_from_the_schema():
-    readme = os.path.join(os.path.dirname(__file__), '..', 'README.md')
-    with open(readme) as fh:
+def test_reference_table_is_generated_from_the_schema():
+    page = os.path.join(os.path.dirname(__file__), '..', 'docs', 'reference', 'parameters.md')
+    with open(page) as fh:
         assert markdown() in fh.read(), (
-            'README parameter table out of date: python -m orca_ros.ros.parameter_schema'
+            'docs parameter table out of date: python docs/_ext/parameter_reference.py'
         )
