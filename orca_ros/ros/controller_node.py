@@ -57,6 +57,7 @@ from .obstacle_markers import ObstacleMarkers
 from .state_reception import StateReception
 from .target_smoothing import TargetSmoothing
 from ..configuration import build_from_config
+from ..robot.base_twist_estimator import BaseTwistEstimator
 from ..safety import SafeCommand
 from ..utils.ring_buffer import RingBuffer
 
@@ -182,6 +183,12 @@ class OrcaControllerNode(
         self._base_T = np.eye(4)
         self._base_twist = np.zeros(6)
         self._odom_stamp = None
+        self._odom_twist = str(param(self, 'odom_twist', 'auto'))
+        if self._odom_twist not in ('auto', 'measured', 'estimated'):
+            raise ValueError(
+                f"odom_twist must be 'auto', 'measured' or 'estimated', got '{self._odom_twist}'"
+            )
+        self._twist_estimator = BaseTwistEstimator()
         self._gravity = np.array(param(self, 'gravity', [0.0, 0.0, -9.81]), dtype=float)
         self._computed_stamp = None
         if self.floating:

@@ -89,6 +89,15 @@ SCHEMA: tuple[ParamSpec, ...] = (
         1.0,
     ),
     ParamSpec('floating_base', _B, False, 'free-flyer root joint (base pose and twist from odom)'),
+    ParamSpec('odom_topic', 'str', False, 'odometry topic of a floating base (nav_msgs/Odometry)'),
+    ParamSpec(
+        'odom_twist',
+        'str',
+        False,
+        "the base twist: 'measured' (odom's), 'estimated' (from odom's poses), 'auto' (estimated "
+        'when the twist covariance[0] is -1, unknown)',
+        choices=('auto', 'measured', 'estimated'),
+    ),
     ParamSpec('solver', 'str', False, 'QP solver', choices=('daqp', 'proxqp', 'osqp')),
     ParamSpec('compiled', _B, False, 'the compiled cycle (numba); false: the reference path'),
     ParamSpec(

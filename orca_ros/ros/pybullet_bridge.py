@@ -16,7 +16,8 @@ PyBullet bridge node: the simulated robot behind ros2_control-style topics.
 
 Publishes ``joint_states`` (name, position, velocity (none with ``publish_velocities: false``, as
 a driver that measures positions only), effort), ``odom`` (nav_msgs/Odometry,
-floating base only, twist in the child frame as the message defines) and ``/clock`` (simulated
+floating base only, twist in the child frame as the message defines; none with
+``publish_odom_twist: false``: covariance[0] = -1, unknown) and ``/clock`` (simulated
 time); takes effort commands on ``/<controller_name>/commands`` (std_msgs/Float64MultiArray in the
 ``joints`` order, reliable QoS, as ros2_control's forward effort controller), so a real robot
 replaces this node by a parameter change. Joints of the URDF outside ``joints`` (a gripper's) are
@@ -89,6 +90,8 @@ class PyBulletBridge(GuardedNode, SimObstacles):
         self.publish_clock = bool(param(self, 'publish_clock', self.mode == 'lockstep'))
         # false: joint_states without velocities, as a driver that measures positions only
         self.publish_velocities = bool(param(self, 'publish_velocities', True))
+        # false: odom without a twist (zeros, covariance[0] = -1: unknown), as odometry from poses
+        self.publish_odom_twist = bool(param(self, 'publish_odom_twist', True))
         self.stop_time = float(
             param(self, 'stop_time', 0.0)
         )  # > 0: simulated time at which stepping stops
@@ -354,6 +357,10 @@ class PyBulletBridge(GuardedNode, SimObstacles):
             float(c) for c in quaternion_xyzw(R)
         )  # (pin.Quaternion(R) leaks: see quaternion_xyzw)
         p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w = x, y, z, w
+        if not self.publish_odom_twist:
+            m.twist.covariance[0] = -1.0
+            self.pub_odom.publish(m)
+            return
         # nav_msgs/Odometry: the twist is expressed in child_frame_id
         lin, ang = R.T @ twist[:3], R.T @ twist[3:]
         m.twist.twist.linear.x, m.twist.twist.linear.y, m.twist.twist.linear.z = (

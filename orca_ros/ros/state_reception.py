@@ -17,8 +17,11 @@ The controller node's state input: joint states and odometry in, the robot model
 Joint states are read by name (:class:`~orca_ros.ros.joint_state_input.JointStateInput`: the
 commanded and the locked joints, NaN, absurd values and missing joints rejected with a log line);
 a floating base also needs odometry (pose and child-frame twist, checked and turned into world
-axes). In lockstep (``trigger: joint_state``) a state repeated with the same stamp re-sends the
-command of that instant instead of computing another step; a new instant computes once both joint
+axes). A twist marked unknown (covariance[0] = -1, as sensor_msgs has it) or ``odom_twist:
+estimated``: the twist is estimated from the poses
+(:class:`~orca_ros.robot.base_twist_estimator.BaseTwistEstimator`), said once in the log. In
+lockstep (``trigger: joint_state``) a state repeated with the same stamp re-sends the command of
+that instant instead of computing another step; a new instant computes once both joint
 states and odometry of it are in.
 """
 
@@ -89,9 +92,13 @@ class StateReception:
             ],
             dtype=float,
         )
+        estimate = self._odom_twist == 'estimated' or (
+            self._odom_twist == 'auto' and msg.twist.covariance[0] == -1.0
+        )
+        checked = vals[:7] if estimate else vals  # an unknown twist may hold anything
         if (
-            not np.isfinite(vals).all()
-            or np.abs(vals).max() > 1e6
+            not np.isfinite(checked).all()
+            or np.abs(checked).max() > 1e6
             or not 0.5 < np.abs(vals[3:7]).sum() < 2.5
         ):
             self.say(
@@ -101,8 +108,20 @@ class StateReception:
         T = pose_to_matrix(msg.pose.pose)
         R = T[:3, :3]
         self._base_T[:] = T
-        self._base_twist[:3] = R @ vals[7:10]  # child frame -> world axes
-        self._base_twist[3:] = R @ vals[10:13]
+        if estimate:  # from the poses, over the messages' stamps (receipt time when unstamped)
+            t = stamp_to_sec(msg.header.stamp)
+            t = t if t > 0.0 else time.monotonic()
+            self._base_twist[:] = self._twist_estimator.update(T, t)
+        else:
+            self._base_twist[:3] = R @ vals[7:10]  # child frame -> world axes
+            self._base_twist[3:] = R @ vals[10:13]
+        if estimate != getattr(self, '_estimating_twist', False):  # said once per spell
+            self._estimating_twist = estimate
+            if estimate:
+                why = ('odom_twist: estimated' if self._odom_twist == 'estimated'
+                       else 'odom twist unknown (covariance[0] = -1)')
+                self.say('warning', 'state:no_twist', f'{why}: estimating the base twist from '
+                         'the poses (filtered differences, 100 Hz)')
         self._odom_stamp = stamp_to_sec(msg.header.stamp)
         self._odom_wall = time.monotonic()
         self._on_new_state()
