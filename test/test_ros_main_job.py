@@ -33,7 +33,7 @@ def test_main_job_reaches_every_target_and_records_the_run(tmp_path):
     # the timeout is a failsafe (a busy machine may take minutes), not a speed claim
     proc = subprocess.run(
         [sys.executable, '-m', 'orca_ros.ros.main_job', '--output-dir', str(tmp_path),
-         '--bag', str(bag)],
+         '--bag', str(bag), '--web'],
         capture_output=True,
         text=True,
         timeout=900,
@@ -46,6 +46,10 @@ def test_main_job_reaches_every_target_and_records_the_run(tmp_path):
     assert '-0.000' not in out and 'e-4' not in out.split('solve time')[0]
     assert (tmp_path / 'main_job_run.png').stat().st_size > 50_000
     assert (tmp_path / 'main_job_path.png').stat().st_size > 10_000
+    # --web: the page's URL printed; the view had the robot and the end effector's task
+    assert 'web view: http://127.0.0.1:' in out
+    web_log = (tmp_path / 'run.logs' / 'web_view.log').read_text()
+    assert 'robot: 8 visuals' in web_log and "task 'ee'" in web_log, web_log
     # the nodes' output is kept next to the run's bag (it was left in /tmp)
     for node in ('bridge', 'controller', 'recorder'):
         assert (tmp_path / 'run.logs' / f'{node}.log').stat().st_size > 0

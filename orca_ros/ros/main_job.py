@@ -22,7 +22,8 @@ joint states, commands, targets, task error, solve time per cycle, diagnostics, 
 ``bag_recorder`` (each target is sent until the arm moves and the recorder has it), and drawn from
 that file by the ``plot`` command's code. Lockstep simulation by
 default (deterministic, faster than real time); ``--realtime`` runs the bridge at wall-clock rate
-with the controller on its timer; ``--gui`` shows PyBullet.
+with the controller on its timer; ``--gui`` shows PyBullet; ``--web`` starts ``web_view`` (the robot
+and its targets in the browser during the run; the URL printed, ``--web-port`` its port).
 """
 
 from __future__ import annotations
@@ -98,6 +99,22 @@ def _launch_robot(procs, args, mode: str) -> None:
     )
 
 
+def _start_web_view(procs, port: int):
+    """Start ``web_view`` beside the run; return its URL, or None (its one line printed)."""
+    p = procs.start('orca_ros.ros.web_view', '-p', f'port:={port}', name='web_view')
+    t0 = time.time()
+    while time.time() - t0 < 60:
+        log = procs.log('web_view')
+        if 'web view: http' in log:
+            return log.split('web view: ')[1].split()[0]
+        if p.poll() is not None:
+            print(f"--web: {(log.strip().splitlines() or ['web_view exited'])[-1]}")
+            return None
+        time.sleep(0.05)
+    print('--web: web_view did not start within 60 s')
+    return None
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
@@ -106,6 +123,10 @@ def main(argv=None) -> int:
         '--realtime', action='store_true', help='free-running bridge at wall-clock rate'
     )
     ap.add_argument('--gui', action='store_true', help='show the PyBullet window')
+    ap.add_argument(
+        '--web', action='store_true', help='the robot and its targets in the browser (web_view)'
+    )
+    ap.add_argument('--web-port', type=int, default=8080, help="web_view's port [8080]")
     ap.add_argument('--output-dir', default='output')
     ap.add_argument('--bag', help='rosbag2 directory to write [<output-dir>/run_<date-time>]')
     ap.add_argument(
@@ -138,6 +159,10 @@ def main(argv=None) -> int:
     )
     procs.wait_log('recorder', 'recording', timeout=60)
     _launch_robot(procs, args, mode)
+    if args.web:
+        url = _start_web_view(procs, args.web_port)
+        if url:
+            print(f'web view: {url} (open it in a browser to watch the run)', flush=True)
     probe = Probe(domain)
     rows, path, ok = [], [], True
     waiting = {}  # the predicates a target waits for (printed if it times out)
