@@ -22,8 +22,8 @@ joint states, commands, targets, task error, solve time per cycle, diagnostics, 
 ``bag_recorder`` (each target is sent until the arm moves and the recorder has it), and drawn from
 that file by the ``plot`` command's code. Lockstep simulation by
 default (deterministic, faster than real time); ``--realtime`` runs the bridge at wall-clock rate
-with the controller on its timer; ``--gui`` shows PyBullet; ``--web`` starts ``web_view`` (the robot
-and its targets in the browser during the run; the URL printed, ``--web-port`` its port).
+with the controller on its timer; ``--gui`` shows PyBullet; ``--web`` starts ``web_view`` (the
+robot and its targets in the browser during the run; the URL printed, ``--web-port`` its port).
 """
 
 from __future__ import annotations
