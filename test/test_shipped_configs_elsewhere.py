@@ -97,7 +97,8 @@ def test_the_arm_configuration_on_another_arm(which, iiwa_urdf, example_robot_ur
             ee.servo_controller().set_desired(target)
             for _ in range(2500):
                 q, v = sim.get_joint_positions(by_name), sim.get_joint_velocities(by_name)
-                over = max(over, float(np.max(q - hi)), float(np.max(lo - q)))
+                over = max(over, float(np.max(q - hi)), float(np.max(lo - q)),
+                           float(np.max(np.abs(v) - vmax)))
                 robot.set_robot_state(q, v)
                 failures += not c.update(server.get_time(), DT)
                 tau = c.get_joint_torque_command()
