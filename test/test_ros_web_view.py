@@ -30,9 +30,11 @@ from orca_ros.ros.launch_free import free_domain_id, Procs
 from orca_ros.ros.probe import Probe
 import pytest
 
-CHROMIUM, CHROMEDRIVER = '/usr/bin/chromium', '/usr/bin/chromedriver'
+# Debian's names (Ubuntu's chromium-browser as a fallback)
+CHROMIUM = shutil.which('chromium') or shutil.which('chromium-browser') or '/usr/bin/chromium'
+CHROMEDRIVER = shutil.which('chromedriver') or '/usr/bin/chromedriver'
 # the page's first view (the node's camera parameters) and the gizmo's size
-CAMERA = ([0.3, -2.0, 0.9], [-0.35, 0.0, 0.4], 50.0)
+CAMERA = ([0.2, -1.6, 0.9], [-0.3, 0.0, 0.4], 50.0)
 GIZMO = 0.3
 MAGENTA = np.array([230, 0, 230])
 
@@ -59,7 +61,7 @@ def _chromium(profile):
     for flag in ('--headless', '--no-sandbox', '--disable-gpu', '--disable-quic',
                  '--no-first-run', '--disable-background-networking',
                  '--disable-component-update', '--disable-sync', '--enable-unsafe-swiftshader',
-                 f'--user-data-dir={profile}', '--window-size=1100,760'):
+                 f'--user-data-dir={profile}', '--window-size=800,560'):
         opts.add_argument(flag)
     return webdriver.Chrome(options=opts, service=Service(CHROMEDRIVER))
 
@@ -67,8 +69,8 @@ def _chromium(profile):
 class Tab:
     """The page in the browser's current tab: screenshots and the camera's projection."""
 
-    def __init__(self, driver):
-        self.d = driver
+    def __init__(self, driver, out):
+        self.d, self.out = driver, out
 
     def wait(self, predicate, timeout, what):
         t0 = time.time()
@@ -76,7 +78,9 @@ class Tab:
             if predicate():
                 return
             time.sleep(0.2)
-        raise AssertionError(f'timed out after {timeout} s waiting for {what}')
+        self.shot(self.out / 'timed_out.png')
+        raise AssertionError(f'timed out after {timeout} s waiting for {what} (the tab: '
+                             f"{self.out / 'timed_out.png'})")
 
     def canvas(self):
         """Left, top, width, height of the 3-D view (the largest canvas)."""
@@ -159,7 +163,7 @@ def run(tmp_path_factory):
         procs.wait_log('web_view', 'web view: http://', 60)
         url = procs.log('web_view').split('web view: ')[1].split()[0]
         driver = _chromium(out / 'profile')
-        tab = Tab(driver)
+        tab = Tab(driver, out)
         driver.get(url)
         tab.wait(tab.connected, 60, 'the page connected')
         time.sleep(1.0)  # the grid drawn (nothing else comes: no robot description yet)
@@ -234,7 +238,7 @@ def test_a_drag_of_the_gizmo_moves_the_arm_and_the_current_pose_follows(run):
     axis = start[:3, i]
     on_screen = (ends[i] - tab.project(p0)) / np.linalg.norm(ends[i] - tab.project(p0))
     sign = 1.0 if axis @ -np.array([p0[0], p0[1], 0.0]) > 0 else -1.0
-    tab.drag(ends[i], ends[i] + sign * 40.0 * on_screen)
+    tab.drag(ends[i], ends[i] + sign * 30.0 * on_screen)
     probe.wait_for(lambda: targets, 10, 'a target from the page')
     time.sleep(0.5)  # the drag's end: its last target
     last = targets[-1]

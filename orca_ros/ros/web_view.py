@@ -26,7 +26,7 @@ sent by anyone else moves the gizmo.
 Parameters: ``host`` (127.0.0.1), ``port`` (8080; the next free one when taken), ``controller``
 (``/orca_controller``), ``rate`` (30 Hz, scene updates), ``floating_base`` (false),
 ``gizmo_scale`` (0.2 m), ``camera_position`` / ``camera_look_at`` / ``camera_fov`` (a tab's
-first view; fov in degrees), ``urdf_path`` (empty: the topic).
+first view: [1.4, -1.4, 1.1], [0, 0, 0.4], 50 degrees), ``urdf_path`` (empty: the topic).
 """
 
 from __future__ import annotations
@@ -60,11 +60,13 @@ class WebView(GuardedNode):
 
         self.ns = str(param(self, 'controller', '/orca_controller')).rstrip('/')
         self.floating = bool(param(self, 'floating_base', False))
-        camera = None
-        position = list(param(self, 'camera_position', []) or [])
-        if len(position) == 3:
-            look_at = list(param(self, 'camera_look_at', [0.0, 0.0, 0.5]))
-            camera = (position, look_at, np.radians(float(param(self, 'camera_fov', 50.0))))
+        camera = (
+            list(param(self, 'camera_position', [1.4, -1.4, 1.1])),
+            list(param(self, 'camera_look_at', [0.0, 0.0, 0.4])),
+            np.radians(float(param(self, 'camera_fov', 50.0))),
+        )
+        if len(camera[0]) != 3 or len(camera[1]) != 3:
+            raise ValueError('camera_position and camera_look_at take 3 values each')
         self.page = Page(
             str(param(self, 'host', '127.0.0.1')), int(param(self, 'port', 8080)),
             float(param(self, 'gizmo_scale', 0.2)), camera,

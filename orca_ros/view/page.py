@@ -45,6 +45,7 @@ class Page:
         viser = optional_import('viser', 'web_view')
         self.server = viser.ViserServer(host=host, port=port, verbose=False)
         self.server.scene.set_up_direction('+z')
+        self.server.gui.main_panel.minimize()  # its scene tree would cover part of the view
         if camera is not None:
             position, look_at, fov = camera
             cam = self.server.initial_camera
