@@ -21,13 +21,27 @@ readers of the repository: ``python docs/_ext/parameter_reference.py`` rewrites 
 the schema.
 """
 
+import importlib.util
 import os
 import sys
 
-from orca_ros.ros.parameter_schema import markdown
+DOCS = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PAGE = os.path.join(DOCS, 'reference', 'parameters.md')
+SCHEMA_FILE = os.path.join(DOCS, '..', 'orca_ros', 'ros', 'parameter_schema.py')
 
-PAGE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), 'reference',
-                    'parameters.md')
+
+def _schema_module():
+    """
+    Load parameter_schema.py by its path.
+
+    It needs the standard library only, whereas importing it through the package would import
+    the whole core (numpy, Pinocchio...), which a documentation build (rosdoc2's) may lack.
+    """
+    spec = importlib.util.spec_from_file_location('_orca_parameter_schema', SCHEMA_FILE)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module  # dataclasses look their module up
+    spec.loader.exec_module(module)
+    return module
 
 HEADER = """# Controller parameters
 
@@ -45,7 +59,7 @@ table prints with `python -m orca_ros.ros.parameter_schema`.
 
 def render() -> str:
     """Return the page's Markdown text."""
-    return HEADER + markdown() + '\n'
+    return HEADER + _schema_module().markdown() + '\n'
 
 
 def write_if_changed(path: str = PAGE) -> bool:
