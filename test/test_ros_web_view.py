@@ -143,6 +143,13 @@ def _magenta_centre(img):
     return None if xs.size < 10 else np.array([xs.mean(), ys.mean()])
 
 
+def _gizmo_red_centre(img):
+    """Centre (x, y) of the target gizmo's red parts (its x arrow and ring), None if none."""
+    red = (img[..., 0] > 200) & (img[..., 1] < 110) & (img[..., 2] > 60) & (img[..., 2] < 160)
+    ys, xs = np.nonzero(red)
+    return None if xs.size < 10 else np.array([xs.mean(), ys.mean()])
+
+
 def _patch(img, xy, half=6):
     x, y = int(xy[0]), int(xy[1])
     return img[y - half:y + half + 1, x - half:x + half + 1]
@@ -281,6 +288,7 @@ def test_two_tabs_one_closed_and_a_reload_shows_the_current_state(run):
     goal = run['goal']
     tab.wait(lambda: _magenta_centre(tab.shot()) is not None, 20, 'the marker in the second tab')
     there = _magenta_centre(tab.shot())
+    gizmo_there = _gizmo_red_centre(tab.shot())
     off = np.linalg.norm(there - tab.project(goal[:3, 3]))
     assert off < 20.0, f'the marker {off:.1f} px from the end effector'
     # the first tab closed while the arm moves to a new target sent by someone else
@@ -308,10 +316,15 @@ def test_two_tabs_one_closed_and_a_reload_shows_the_current_state(run):
         return c is not None and np.linalg.norm((c - there) - shift) < 6.0
 
     tab.wait(shows_new_pose, 20, 'the reloaded tab showing the arm at the new target')
-    c = _magenta_centre(tab.shot(run['out'] / 'reloaded.png'))
+    img = tab.shot(run['out'] / 'reloaded.png')
+    c = _magenta_centre(img)
+    # the target gizmo followed the target someone else sent
+    gizmo_shift = _gizmo_red_centre(img) - gizmo_there
+    assert np.linalg.norm(gizmo_shift - shift) < 6.0, (gizmo_shift, shift)
     print(f'second tab: marker {off:.1f} px from the end effector; after the first tab closed '
           f'the arm reached the next target in {took:.2f} s (sim); after the reload the marker '
-          f'moved {np.round(c - there, 1)} px, the end effector {np.round(shift, 1)} px')
+          f'moved {np.round(c - there, 1)} px, the target gizmo {np.round(gizmo_shift, 1)} px, '
+          f'the end effector {np.round(shift, 1)} px')
 
 
 def test_without_viser_one_line(tmp_path):
