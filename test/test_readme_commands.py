@@ -59,6 +59,13 @@ def test_the_two_commands_are_the_scripts_entry_points():
     for cmd in commands:
         run = subprocess.run(['bash', '-n', os.path.join(ROOT, cmd.split()[1])])
         assert run.returncode == 0, cmd
+    # what they run: the main job (which test_ros_main_job.py runs end to end) and pytest on test/
+    with open(os.path.join(ROOT, 'scripts', 'run_demo.sh')) as fh:
+        assert 'python -m orca_ros.ros.main_job "$@"' in fh.read()
+    with open(os.path.join(ROOT, 'scripts', 'run_tests.sh')) as fh:
+        assert 'python -m pytest -q test "$@"' in fh.read()
+    with open(os.path.join(ROOT, 'test', 'test_ros_main_job.py')) as fh:
+        assert "'-m', 'orca_ros.ros.main_job'" in fh.read()
 
 
 def test_the_core_example_runs(monkeypatch, tmp_path):
