@@ -138,9 +138,10 @@ class LowerLevelProblem(WeightedProblem):
         Pull this level's solution towards its previous cycle's: + mu W ||x - x_prev||^2.
 
         W: the summed weights of the level's own computing tasks (``damping_scale``, set each cycle
-        by the cascade), so that mu is a ratio that does not depend on how the level is weighted:
-        with W ||x - x_prev||^2 against a cost of the same weight, the level's solution follows
-        its optimum as a first-order filter of about mu cycles where nothing else binds.
+        by the cascade; under GENERALIZED a share of the upper levels' too, see
+        ``PriorityLevels.damping_scale``), so that mu is a ratio that does not depend on how the
+        level is weighted: with W ||x - x_prev||^2 against a cost of the same weight, the level's
+        solution follows its optimum as a first-order filter of about mu cycles where nothing else binds.
 
         A lower level whose tasks conflict with the levels above sits on the bounds left to it, and
         hops between vertices of that set as bounds come and go (a velocity limit riding on and

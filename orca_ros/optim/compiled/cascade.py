@@ -26,6 +26,7 @@ cycle, said in the debug log, as there.
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -101,8 +102,11 @@ class _Level:
             rows = plan.prefix_rows[index]
             cost_dg = [t for d in plan.diagonal[:index] for t in d] + own_dg
         i64 = np.int64
+        # GENERALIZED: the levels above, whose tasks' weights share in the damping
+        upper = ([t for j in range(index) for t in levels.level_tasks[j]]
+                 if reference is not None else [])
         nl, nc, ni = p.lock_rows(), p.n_eq_constraints, p.n_in
-        self.mu = np.zeros(1)
+        self.mu = np.zeros(2)
         self.Hd, self.g2 = np.zeros((nx, nx)), np.zeros(nx)
         self.keep, self.ref_x, self.band = np.zeros(nl), np.zeros(nx), np.zeros(nl)
         self.Mb = np.zeros((nc + ni + nl, nx))
@@ -115,6 +119,8 @@ class _Level:
             np.array([dense[id(t)] for t in self.tasks if id(t) in dense], dtype=i64),
             np.array([diag[id(t)] for t in own_dg], dtype=i64),
             np.array(locks, dtype=i64).reshape(-1, 5), rows.start, rows.stop,
+            np.array([dense[id(t)] for t in upper if id(t) in dense], dtype=i64),
+            np.array([diag[id(t)] for t in upper if id(t) in diag], dtype=i64),
             p.H, p.g, p._M, p.b, p._lo, p._hi, levels.problems[index - 1].x, p.x_ref, p.x,
             p._prev_ok, p._damp_w, self.mu, self.Hd, self.g2, nc, ni, nx,
             self.keep, self.ref_x, self.band, self.Mb, self.lob, self.hib,
@@ -208,7 +214,9 @@ class CompiledCascade:
         """
         p = lev.problem
         mu = p.temporal_damping
-        lev.mu[0] = mu * lev.alpha  # times the own tasks' weights, by kernel
+        # times the own and the upper tasks' weights, by kernel (PriorityLevels.damping_scale)
+        lev.mu[0] = mu * lev.alpha
+        lev.mu[1] = mu * lev.alpha * math.sqrt(1.0 - lev.alpha)
         p.band = None
         if banded and lev.open:
             code = CompiledCascade._generalized(lev, deadline, max_iterations)

@@ -56,6 +56,8 @@ FIELDS = (
     'pM', 'plo', 'phi',
     # the level's tables and cost rows [r0, r1)
     'cdiag', 'own', 'own_dg', 'locks', 'r0', 'r1',
+    # GENERALIZED: the tasks of the levels above (dense, diagonal), whose costs the level holds
+    'up', 'up_dg',
     # the level's problem (LowerLevelProblem's arrays): H, g, M = [A_eq; locks; C], b, lo, hi
     'H', 'g', 'M', 'b', 'lo', 'hi', 'x_above', 'x_ref', 'x', 'prev_ok', 'damp_w', 'mu',
     # what the solver reads: the damped Hessian and the gradient at x_ref
@@ -122,14 +124,19 @@ def orthonormalise_locks(M, b, x_above, r0, r1, nx):
 def prepare(s):
     """Write the level's problem for this cycle; return READY, NON_FINITE or NOTHING_TO_DO."""
     ew, dg_ew = s.ew, s.dg_ew
-    # weighted: some own task in the cost; weight: their weights, ramps left out (damping_scale)
-    weighted, weight = False, 0.0
+    # weighted: some own task in the cost; weight: their weights, ramps left out, and the upper
+    # tasks' under GENERALIZED (PriorityLevels.damping_scale: mu[0] and mu[1] its shares)
+    weighted, weight, upper = False, 0.0, 0.0
     for k in range(s.own.shape[0]):
         weighted = weighted or ew[s.own[k]] > 0.0
         weight += s.nw[s.own[k]]
     for k in range(s.own_dg.shape[0]):
         weighted = weighted or dg_ew[s.own_dg[k]] > 0.0
         weight += s.dg_nw[s.own_dg[k]]
+    for k in range(s.up.shape[0]):
+        upper += s.nw[s.up[k]]
+    for k in range(s.up_dg.shape[0]):
+        upper += s.dg_nw[s.up_dg[k]]
     if not weighted:
         return NOTHING_TO_DO  # the solution above stands
     nx, nc, ni = s.nx, s.nc, s.ni
@@ -204,7 +211,7 @@ def prepare(s):
     for a in range(nx):
         _relax(plo[a], phi[a], x_ref[a], lo, hi, a)
     # the solver's Hessian and gradient at x_ref, damped towards the last solution (or x_ref)
-    Hd, g2, mu = s.Hd, s.g2, s.mu[0] * weight
+    Hd, g2, mu = s.Hd, s.g2, s.mu[0] * weight + s.mu[1] * upper
     prev = s.x if s.prev_ok[0] else x_ref
     for a in range(nx):
         mw = mu * s.damp_w[a] if mu > 0.0 else 0.0
