@@ -216,6 +216,34 @@ def test_the_screenshot_shows_the_robot(run):
     assert min(diffs) > 40 and corner < 2.0
 
 
+def test_obstacles_sent_to_the_controller_are_shown_and_removed(run):
+    from visualization_msgs.msg import Marker, MarkerArray
+
+    tab, probe, empty = run['tab'], run['probe'], run['empty']
+    pub = probe.node.create_publisher(MarkerArray, '/orca_controller/obstacles', 10)
+    probe.wait_for(lambda: pub.get_subscription_count() > 0, 10, 'the page on the topic')
+    ball = np.array([0.3, 0.0, 0.8])  # in view, clear of the arm
+    xy = tab.project(ball)
+
+    def send(action):
+        m = Marker(action=action, type=Marker.SPHERE, ns='test', id=1)
+        m.header.frame_id = 'world'
+        m.pose.position.x, m.pose.position.y, m.pose.position.z = (float(v) for v in ball)
+        m.pose.orientation.w = 1.0
+        m.scale.x = m.scale.y = m.scale.z = 0.16
+        pub.publish(MarkerArray(markers=[m]))
+
+    def difference():
+        return np.abs(_patch(tab.shot(), xy) - _patch(empty, xy)).mean()
+
+    tab.wait(lambda: send(Marker.ADD) or difference() > 40, 20, 'the ball on the page')
+    shown = difference()
+    tab.wait(lambda: send(Marker.DELETE) or difference() < 2, 20, 'the ball gone')
+    print(f'obstacle: mean difference {shown:.1f} where the ball is, {difference():.2f} after '
+          'its DELETE')
+    assert 'Traceback' not in run['procs'].log('web_view')
+
+
 def _reached(probe, target, tol=1e-3):
     return np.linalg.norm(probe.ee_pose()[:3, 3] - target[:3, 3]) < tol
 

@@ -21,7 +21,9 @@ restarted or reconfigured controller appear by themselves) the page shows the cu
 magenta ball with axes) and the target as a gizmo: dragging it publishes
 ``<controller>/tasks/<name>/target_pose`` in the frame the controller reports the task in, so the
 controller's own checks (frames, reach, smoothing) apply to it as to any other sender; a target
-sent by anyone else moves the gizmo.
+sent by anyone else moves the gizmo. The obstacles sent to the controller's ``~/obstacles``
+(visualization_msgs/MarkerArray: SPHERE, CUBE, CYLINDER in the world, the base frame or on a link;
+read as the controller reads them, :mod:`.obstacle_markers`) are shown as blue shapes.
 
 Parameters: ``host`` (127.0.0.1), ``port`` (8080; the next free one when taken), ``controller``
 (``/orca_controller``), ``rate`` (30 Hz, scene updates), ``floating_base`` (false),
@@ -42,9 +44,11 @@ import numpy as np
 from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import JointState
 from std_msgs.msg import String
+from visualization_msgs.msg import Marker, MarkerArray
 
 from .common import DEFAULT_QOS, DESCRIPTION_QOS, matrix_to_pose, param, pose_to_matrix, run_node
 from .guarded_node import GuardedNode
+from .obstacle_markers import marker_action, marker_obstacle
 from ..utils.optional_import import MissingDependency, optional_import
 from ..view.gizmos import GizmoBook
 
@@ -81,6 +85,7 @@ class WebView(GuardedNode):
         self._base_pose = None
         self._state_changed = False
         self._target_pubs: dict = {}
+        self._obstacles: dict = {}  # name -> (shape, size, pose, frame: None = the world)
         self._pattern = re.compile(rf'^{re.escape(self.ns)}/tasks/([^/]+)/current_pose$')
         urdf_path = str(param(self, 'urdf_path', ''))
         if urdf_path:
@@ -96,6 +101,9 @@ class WebView(GuardedNode):
                                  qos_profile_sensor_data)
         if self.floating:
             self.create_subscription(Odometry, 'odom', self._on_odom, qos_profile_sensor_data)
+        self.create_subscription(
+            MarkerArray, f'{self.ns}/obstacles', self._on_obstacles, DEFAULT_QOS
+        )
         self.create_timer(1.0 / float(param(self, 'rate', 30.0)), self._redraw)
         self.create_timer(0.5, self._discover_tasks)
         self._discover_tasks()
@@ -141,6 +149,28 @@ class WebView(GuardedNode):
             self.scene.update(self._positions, self._base_pose)
             poses = self.scene.visual_poses()
         self.page.place_robot(poses)
+        for name, (shape, size, pose, frame) in list(self._obstacles.items()):
+            if frame is not None:  # on a link (or the base): moves with it
+                self.page.set_obstacle(name, shape, size, self._world_from(frame) @ pose)
+
+    # ------------------------------------------------------------------ obstacles
+    def _on_obstacles(self, msg: MarkerArray) -> None:
+        base = self.scene.root_frame if self.scene is not None else ''
+        for m in msg.markers:
+            name = f'{m.ns}/{m.id}'
+            try:
+                action = marker_action(m, self._obstacles)
+                if action != Marker.ADD:
+                    for n in list(self._obstacles) if action == Marker.DELETEALL else [name]:
+                        del self._obstacles[n]
+                        self.page.remove_obstacle(n)
+                    continue
+                shape, size, pose, frame = marker_obstacle(m, base)
+                world = self._world_from(frame) @ pose if frame else pose
+                self._obstacles[name] = (shape, size, pose, frame)
+                self.page.set_obstacle(name, shape, size, world)
+            except (ValueError, KeyError) as exc:
+                self.say('warning', 'obstacles', f"obstacle marker '{name}' not shown: {exc}")
 
     def _world_from(self, frame: str) -> np.ndarray:
         """World pose of a frame of the model ('' or unknown model: the identity)."""

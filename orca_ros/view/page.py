@@ -23,10 +23,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import shapes
 from .gizmos import to_matrix, to_position_wxyz
 from ..utils.optional_import import optional_import
 
 CURRENT_COLOR = (230, 0, 230)  # the current pose's marker: a magenta ball with axes
+OBSTACLE_COLOR = (90, 120, 230)  # obstacles: blue, half transparent
 
 
 def _rgb(rgba) -> tuple[int, int, int]:
@@ -53,6 +55,7 @@ class Page:
         self.gizmo_scale = float(gizmo_scale)
         self._meshes: list = []
         self._tasks: dict = {}  # name -> (gizmo handle, current-pose frame handle)
+        self._obstacles: dict = {}  # name -> (shape, size, mesh handle)
         self.server.scene.add_grid('/grid', width=2.0, height=2.0, cell_size=0.1)
 
     @property
@@ -112,6 +115,30 @@ class Page:
 
     def set_target(self, name: str, pose: np.ndarray) -> None:
         self._tasks[name][0].position, self._tasks[name][0].wxyz = to_position_wxyz(pose)
+
+    def set_obstacle(self, name: str, shape: str, size, pose: np.ndarray) -> None:
+        """Show an obstacle (sphere [r], box [x, y, z], cylinder [r, length]) at a world pose."""
+        old = self._obstacles.get(name)
+        if old is None or old[:2] != (shape, list(size)):
+            if old is not None:
+                old[2].remove()
+            verts, faces = {
+                'sphere': lambda: shapes.sphere(size[0]),
+                'box': lambda: shapes.box(size),
+                'cylinder': lambda: shapes.cylinder(size[0], size[1]),
+            }[shape]()
+            handle = self.server.scene.add_mesh_simple(
+                f'/obstacles/{name}', verts, faces, color=OBSTACLE_COLOR, opacity=0.6,
+                side='double',
+            )
+            self._obstacles[name] = (shape, list(size), handle)
+        handle = self._obstacles[name][2]
+        handle.position, handle.wxyz = to_position_wxyz(pose)
+
+    def remove_obstacle(self, name: str) -> None:
+        old = self._obstacles.pop(name, None)
+        if old is not None:
+            old[2].remove()
 
     def clients(self) -> int:
         return len(self.server.get_clients())
