@@ -141,7 +141,8 @@ class LowerLevelProblem(WeightedProblem):
         by the cascade; under GENERALIZED a share of the upper levels' too, see
         ``PriorityLevels.damping_scale``), so that mu is a ratio that does not depend on how the
         level is weighted: with W ||x - x_prev||^2 against a cost of the same weight, the level's
-        solution follows its optimum as a first-order filter of about mu cycles where nothing else binds.
+        solution follows its optimum as a first-order filter of about mu cycles where nothing else
+        binds.
 
         A lower level whose tasks conflict with the levels above sits on the bounds left to it, and
         hops between vertices of that set as bounds come and go (a velocity limit riding on and
