@@ -31,8 +31,12 @@ PAGES = [os.path.join(ROOT, 'docs', 'getting_started.md')] + sorted(
     if os.path.basename(p) != 'index.md'
 )
 # pages whose commands are checked elsewhere: the browser view needs a browser
-# (test/test_ros_web_view.py drives headless Chromium through the page)
-CHECKED_ELSEWHERE = {'web_view.md': 'test_ros_web_view.py'}
+# (test/test_ros_web_view.py drives headless Chromium through the page), two machines need two
+# network stacks (test/test_ros_two_hosts.py runs the page's three commands in two namespaces)
+CHECKED_ELSEWHERE = {
+    'web_view.md': 'test_ros_web_view.py',
+    'two_machines.md': 'test_ros_two_hosts.py',
+}
 BLOCK = re.compile(r'^```python\n(.*?)^```', re.S | re.M)
 
 
