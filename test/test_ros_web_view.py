@@ -162,6 +162,9 @@ def run(tmp_path_factory):
     procs = Procs(domain, str(out))
     port = _free_port()
     pos, look, fov = CAMERA
+    # the controller first (its start takes longest; it has its URDF from its YAML), the
+    # simulator, which publishes robot_description, only after the empty scene's screenshot
+    procs.start_arm_controller('lockstep')
     procs.start('orca_ros.ros.web_view', '-p', f'port:={port}', '-p', f'gizmo_scale:={GIZMO}',
                 '-p', f'camera_position:={pos}', '-p', f'camera_look_at:={look}',
                 '-p', f'camera_fov:={fov}', name='web_view')
@@ -175,7 +178,7 @@ def run(tmp_path_factory):
         tab.wait(tab.connected, 60, 'the page connected')
         time.sleep(1.0)  # the grid drawn (nothing else comes: no robot description yet)
         empty = tab.shot(out / 'empty.png')
-        procs.start_arm('lockstep')
+        procs.start_arm_bridge('lockstep')
         probe = Probe(domain)
         probe.wait_for(lambda: probe.commands, 60, 'the controller driving the bridge')
         t0 = probe.sim_time()
@@ -241,6 +244,10 @@ def test_obstacles_sent_to_the_controller_are_shown_and_removed(run):
     tab.wait(lambda: send(Marker.DELETE) or difference() < 2, 20, 'the ball gone')
     print(f'obstacle: mean difference {shown:.1f} where the ball is, {difference():.2f} after '
           'its DELETE')
+    # a marker the controller would refuse: one line naming it and why, the page goes on
+    arrow = Marker(action=Marker.ADD, type=Marker.ARROW, ns='test', id=2)
+    pub.publish(MarkerArray(markers=[arrow]))
+    run['procs'].wait_log('web_view', "obstacle marker 'test/2' not shown: type 0 is not", 10)
     assert 'Traceback' not in run['procs'].log('web_view')
 
 
