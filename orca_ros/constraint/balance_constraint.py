@@ -19,8 +19,9 @@ contact (a point contact's point, a sole's corners), recomputed every cycle; shr
 it gives one half-plane per edge, n_i . c_xy <= d_i. Each edge bounds the CoM's acceleration
 towards it, c_ddot = J_com nu_dot + J_dot_com nu: the CoM approaches the shrunk edge over
 ``horizon`` (h), and its braking margin r - v^2 / (2 A) (the room r left after braking at A)
-shrinks no faster than with the time constant h (as in :mod:`.viable_bound`, whose law moves with
-the joint limits' needs; this one is the balance's own): the CoM stops before the edge. A CoM
+shrinks no faster than with the time constant h (:class:`~.viable_bound.ViableBound` without its
+one-step and viability terms; the joint limits' margin shrinks with h / 2): the CoM stops before
+the edge. A CoM
 target outside the polygon then saturates at its boundary instead of throwing the robot over it.
 
 The braking asked for is what the feet can give. The linear inverted pendulum (omega^2 = g / h,
@@ -46,6 +47,7 @@ from __future__ import annotations
 import numpy as np
 
 from .generic_constraint import GenericConstraint
+from .viable_bound import ViableBound
 
 
 def convex_hull_2d(points: np.ndarray) -> np.ndarray:
@@ -125,6 +127,7 @@ class BalanceConstraint(GenericConstraint):
         super().resize(layout)
         m = self.rows()
         self._room, self._vel, self._out = np.zeros(m), np.zeros(m), np.zeros(m)
+        self._shrunk, self._bound = np.zeros(m), ViableBound(m)
         self._normals = np.zeros((m, 2))
 
     def _support(self) -> np.ndarray:
@@ -164,14 +167,14 @@ class BalanceConstraint(GenericConstraint):
         g = max(float(-self.robot.get_gravity()[2]), 0.0)
         omega2 = g / max(p[2] - support[:, 2].mean(), 1e-3)
         acc = max(min(self.max_acceleration, omega2 * self.margin), 1e-6)
-        h, r, v_n = max(self.horizon, dt), room[:k] - self.margin, vel[:k]
-        # approach the shrunk edge over h, and let the braking margin r - v^2 / (2 A) shrink no
-        # faster than with the time constant h (moving towards it), braking at A at most
-        ub = 2.0 * (r - h * v_n) / (h * h)
-        towards = v_n > 0.0
-        margin = (acc * r[towards] - 0.5 * v_n[towards] ** 2) / (h * v_n[towards]) - acc
-        ub[towards] = np.minimum(ub[towards], margin)
-        np.maximum(ub, -acc, out=ub)
-        np.maximum(ub, -omega2 * room[:k], out=out[:k])
+        # approach the shrunk edge over the horizon h, and let the braking margin r - v^2 / (2 A)
+        # shrink no faster than with the time constant h (moving towards it), braking at A at
+        # most, and at A once the margin is spent (a push: without it, the 200 N side push failed
+        # 6 cycles); no one-step or viability term (A is the pendulum's, and the polygon moves)
+        np.subtract(room, self.margin, out=self._shrunk)
+        self._bound.set_acceleration(acc)
+        self._bound.upper(self._shrunk, vel, dt, max(self.horizon, dt), out, one_step=False,
+                          viable=False, margin_share=1.0, brake_when_spent=True)
+        np.maximum(out[:k], -omega2 * room[:k], out=out[:k])
         self.C[:k, self.layout.acc] = n @ J[:2]
         self.ub[:k] = out[:k] - n @ bias[:2]

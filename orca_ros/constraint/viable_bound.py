@@ -39,8 +39,9 @@ and A the deceleration that can always be produced, the largest admissible a is 
 In a viable state a = -A stays admissible, so the bound is never empty and braking never needs
 more than A; a state that is not viable (a start close to the limit, a push) brakes at A and only
 the one-step bound may ask for more. Used by the joint position limits (both sides of every joint
-stacked) and by the balance constraint (the centre of mass towards each edge of the support
-polygon).
+stacked), the collision avoidance (without the one-step term) and the balance constraint (the
+centre of mass towards each edge of the support polygon: without the one-step and viability
+terms, the margin shrinking with h).
 
 :class:`ViableBound` holds its buffers (no allocation per cycle); an infinite room gives an
 infinite bound.
@@ -74,15 +75,30 @@ class ViableBound:
         self._acc[:] = acc
         self._acc_dt = None
 
-    def upper(self, room, v, dt: float, horizon: float, out, one_step: bool = True) -> np.ndarray:
+    def upper(
+        self,
+        room,
+        v,
+        dt: float,
+        horizon: float,
+        out,
+        one_step: bool = True,
+        viable: bool = True,
+        margin_share: float = _MARGIN_SHARE,
+        brake_when_spent: bool = False,
+    ) -> np.ndarray:
         """
         Write into ``out`` the largest admissible acceleration towards each limit.
 
         ``room``, ``v``: arrays of ``size``; ``horizon`` >= dt. ``one_step=False`` leaves out the
         exact next-position bound: the result then never asks for more than braking at A (for
-        limits that move and may leave the state outside them).
+        limits that move and may leave the state outside them). ``viable=False`` leaves out the
+        next state's viability (a stop within one step: a bound whose braking A is a model, not
+        the actuators' limit); ``margin_share``: the braking margin's time constant in horizons;
+        ``brake_when_spent``: brake at A where the margin is spent too (s <= 0, moving towards the
+        limit), not only where it shrinks.
         """
-        R, a, b, c, d, e = self._room, self._a, self._b, self._c, self._d, self._e
+        R, a, d, e = self._room, self._a, self._d, self._e
         if self._acc_dt != dt:
             self._acc_dt = dt
             np.multiply(self._acc, dt * dt, out=self._acc_dt2)
@@ -93,6 +109,43 @@ class ViableBound:
         dt2 = dt * dt
         np.multiply(v, dt, out=a)
         np.subtract(R, a, out=a)  # a: room - dt v
+        if viable:
+            self._viable(v, dt)
+        else:
+            d.fill(np.inf)
+        # smooth approach over the horizon, capped at braking with A
+        h = horizon
+        np.multiply(v, -h, out=e)
+        np.add(e, R, out=e)
+        np.multiply(e, 2.0 / (h * h), out=e)
+        np.minimum(d, e, out=d)
+        # the braking margin shrinks at most with the time constant margin_share h (towards the
+        # limit only)
+        f = self._f
+        np.multiply(self._acc, R, out=f)
+        f -= 0.5 * np.square(v, out=e)  # f: A s, the margin times A
+        if brake_when_spent:
+            np.greater(v, 0.0, out=self._towards)
+        else:
+            np.greater(f, 0.0, out=self._towards)
+            self._towards &= v > 0.0
+        np.multiply(v, margin_share * h, out=e)
+        np.divide(f, e, out=f, where=self._towards)
+        f -= self._acc
+        np.minimum(d, f, out=d, where=self._towards)
+        np.maximum(d, self._acc_neg, out=d)
+        if one_step:  # the next position within the limit, exactly
+            np.multiply(a, 2.0 / dt2, out=a)
+            np.minimum(a, d, out=out)
+        else:
+            out[:] = d
+        out[self._far] = np.inf
+        return out
+
+    def _viable(self, v, dt: float) -> None:
+        """Write into ``_d`` the largest a whose next state can stop before the limit at A."""
+        a, b, c, d, e = self._a, self._b, self._c, self._d, self._e
+        dt2 = dt * dt
         # b = 2 v dt + A dt^2,  c = v^2 - 2 A (room - dt v),  disc = b^2 - 4 dt^2 c
         np.multiply(v, 2.0 * dt, out=b)
         np.add(b, self._acc_dt2, out=b)
@@ -108,27 +161,3 @@ class ViableBound:
         np.multiply(v, -1.0 / dt, out=e)  # e: stop within the step
         np.maximum(d, e, out=d)
         np.copyto(d, e, where=self._no_root)  # d: viable
-        # smooth approach over the horizon, capped at braking with A
-        h = horizon
-        np.multiply(v, -h, out=e)
-        np.add(e, R, out=e)
-        np.multiply(e, 2.0 / (h * h), out=e)
-        np.minimum(d, e, out=d)
-        # the braking margin shrinks at most with the time constant h / 2 (towards the limit only)
-        f = self._f
-        np.multiply(self._acc, R, out=f)
-        f -= 0.5 * np.square(v, out=e)  # f: A s, the margin times A
-        np.greater(f, 0.0, out=self._towards)
-        self._towards &= v > 0.0
-        np.multiply(v, _MARGIN_SHARE * h, out=e)
-        np.divide(f, e, out=f, where=self._towards)
-        f -= self._acc
-        np.minimum(d, f, out=d, where=self._towards)
-        np.maximum(d, self._acc_neg, out=d)
-        if one_step:  # the next position within the limit, exactly
-            np.multiply(a, 2.0 / dt2, out=a)
-            np.minimum(a, d, out=out)
-        else:
-            out[:] = d
-        out[self._far] = np.inf
-        return out
