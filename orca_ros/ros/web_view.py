@@ -170,7 +170,8 @@ class WebView(GuardedNode):
                 self._obstacles[name] = (shape, size, pose, frame)
                 self.page.set_obstacle(name, shape, size, world)
             except (ValueError, KeyError) as exc:
-                self.say('warning', 'obstacles', f"obstacle marker '{name}' not shown: {exc}")
+                self.say('warning', f'obstacle:{name}',
+                         f"obstacle marker '{name}' not shown: {exc}")
 
     def _world_from(self, frame: str) -> np.ndarray:
         """World pose of a frame of the model ('' or unknown model: the identity)."""
