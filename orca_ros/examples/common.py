@@ -23,6 +23,7 @@ import argparse
 
 import numpy as np
 
+from .arm import add_frame_args, posture
 from .. import (
     CartesianAccelerationPID,
     CartesianTask,
@@ -58,6 +59,7 @@ def parse_args(description: str, argv=None, extra=None):
         default=None,
         help='seconds each control cycle may spend solving (default: one control period)',
     )
+    add_frame_args(parser)
     if extra is not None:
         extra(parser)
     args = parser.parse_args(rest)
@@ -66,14 +68,20 @@ def parse_args(description: str, argv=None, extra=None):
     return args
 
 
-def make_robot(urdf: str):
-    """Arm model in its base frame, with gravity, at q = 0 / v = 0; returns (robot, state)."""
+def make_robot(urdf: str, base: str | None = None):
+    """
+    Arm model in its base frame, with gravity, at rest; returns (robot, state).
+
+    ``base``: the base frame (default: the URDF's root link, the lwr's ``base_link``). The posture
+    is q = 0 clipped into the joint limits (:func:`.arm.posture`; q = 0 on the lwr).
+    """
     robot = RobotModel()
     robot.load_model_from_file(urdf)
-    robot.set_base_frame('base_link')
+    robot.set_base_frame(base or robot.get_base_frame())
     robot.set_gravity(np.array([0.0, 0.0, -9.81]))
     state = RobotState(robot.get_nr_of_degrees_of_freedom())
     state.set_zero()
+    state.joint_pos = posture(robot, state.joint_pos)
     robot.set_robot_state(state.joint_pos, state.joint_vel)
     return robot, state
 

@@ -25,6 +25,7 @@ import sys
 
 import numpy as np
 
+from .arm import to_reach, tool_frame
 from .common import (
     add_standard_constraints,
     integrate,
@@ -43,16 +44,20 @@ def run(
     dt: float = 0.001,
     output: str = 'plotting_torques.png',
     show: bool = False,
+    base: str | None = None,
+    tool: str | None = None,
 ):
-    robot, state = make_robot(urdf)
+    robot, state = make_robot(urdf, base)
+    tool = tool or tool_frame(robot)
     controller = make_controller(robot, solver)
-    target = make_transform([0.3, -0.5, 0.41], quat_from_rpy(np.pi, 0, 0))
+    target = make_transform(to_reach(robot, tool, [0.3, -0.5, 0.41]), quat_from_rpy(np.pi, 0, 0))
     controller.add_task(CartesianTask, 'CartTask_EE').set_servo_controller(
-        make_cartesian_servo('link_7', target)
+        make_cartesian_servo(tool, target)
     )
     trq, _, _ = add_standard_constraints(controller)
     controller.activate_tasks_and_constraints()
     q, v = state.joint_pos.copy(), state.joint_vel.copy()
+    start = robot.get_frame_pose(tool)[:3, 3].copy()
     times, torques = [], []
     t = 0.0
     for _ in range(int(round(total_time / dt))):
@@ -82,7 +87,7 @@ def run(
         ax.plot(times, torques[:, j], label=name)
     ax.set_xlabel('time [s]')
     ax.set_ylabel('joint torque [Nm]')
-    ax.set_title('Joint torques, Cartesian task on link_7')
+    ax.set_title(f'Joint torques, Cartesian task on {tool}')
     ax.grid(True)
     ax.legend(loc='upper right', ncol=2)
     fig.tight_layout()
@@ -96,6 +101,10 @@ def run(
         'torques': torques,
         'output': output,
         'tau_max': trq.get_limits()[1],
+        'tool': tool,
+        'target': target,
+        'final_position': robot.get_frame_pose(tool)[:3, 3].copy(),
+        'start_position': start,
     }
 
 
@@ -105,7 +114,14 @@ def main(argv=None) -> int:
         p.add_argument('--show', action='store_true', help='also open a plot window')
 
     args = parse_args(__doc__, argv, extra)
-    res = run(args.urdf, args.solver, output=args.output, show=args.show)
+    res = run(
+        args.urdf,
+        args.solver,
+        output=args.output,
+        show=args.show,
+        base=args.base_frame,
+        tool=args.tool_frame,
+    )
     print(f"wrote {res['output']} ({len(res['times'])} samples)")
     return 0 if os.path.isfile(res['output']) and np.all(np.isfinite(res['torques'])) else 1
 

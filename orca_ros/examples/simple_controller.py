@@ -14,8 +14,9 @@
 """
 Minimal controller.
 
-One Cartesian task on link_7 and the usual joint limits, solved for 2 s of control cycles at a
-constant state (no robot is moved), then a ramped shutdown.
+One Cartesian task on the arm's tool (the lwr's link_7) and the usual joint limits, solved for 2 s
+of control cycles at a constant state (no robot is moved), then a ramped shutdown. Another arm's
+URDF works too: its tool frame, base frame and the target are derived from it (see ``arm``).
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ import sys
 
 import numpy as np
 
+from .arm import to_reach, tool_frame
 from .common import (
     add_standard_constraints,
     make_cartesian_servo,
@@ -36,15 +38,23 @@ from .. import CartesianTask, get_logger, make_transform, quat_from_kuka_convent
 _LOG = get_logger('examples.simple_controller')
 
 
-def run(urdf: str, solver: str = 'daqp', duration: float = 2.0, dt: float = 0.001):
-    robot, state = make_robot(urdf)
+def run(
+    urdf: str,
+    solver: str = 'daqp',
+    duration: float = 2.0,
+    dt: float = 0.001,
+    base: str | None = None,
+    tool: str | None = None,
+):
+    robot, state = make_robot(urdf, base)
+    tool = tool or tool_frame(robot)
     controller = make_controller(robot, solver)
     # the desired orientation can be written in several equivalent ways
     R = quat_from_rpy(0, 0, 0).toRotationMatrix()
     assert np.allclose(R, quat_from_kuka_convention(0, 0, 0).toRotationMatrix())
-    target = make_transform([1.0, 0.75, 0.5], R)
+    target = make_transform(to_reach(robot, tool, [1.0, 0.75, 0.5]), R)
     cart_task = controller.add_task(CartesianTask, 'CartTask_EE')
-    cart_task.set_servo_controller(make_cartesian_servo('link_7', target))
+    cart_task.set_servo_controller(make_cartesian_servo(tool, target))
     add_standard_constraints(controller)
     controller.activate_tasks_and_constraints()
     solved, cycles = 0, int(round(duration / dt))
@@ -67,6 +77,9 @@ def run(urdf: str, solver: str = 'daqp', duration: float = 2.0, dt: float = 0.00
         'solved': solved,
         'full_solution': controller.get_solution(),
         'torque': controller.get_joint_torque_command(),
+        'torque_limit': controller.get_constraint('JointTorqueLimit').get_limits()[1],
+        'tool': tool,
+        'target': target,
         'acceleration': controller.get_joint_acceleration_command(),
     }
     controller.deactivate_tasks_and_constraints()
@@ -79,7 +92,7 @@ def run(urdf: str, solver: str = 'daqp', duration: float = 2.0, dt: float = 0.00
 
 def main(argv=None) -> int:
     args = parse_args(__doc__, argv)
-    res = run(args.urdf, args.solver)
+    res = run(args.urdf, args.solver, base=args.base_frame, tool=args.tool_frame)
     with np.printoptions(precision=4, suppress=True):
         print(f"solved {res['solved']}/{res['cycles']} cycles")
         print('Full solution              :', res['full_solution'])

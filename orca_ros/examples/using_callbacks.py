@@ -27,6 +27,7 @@ import time
 
 import numpy as np
 
+from .arm import to_reach, tool_frame
 from .common import (
     add_standard_constraints,
     make_cartesian_servo,
@@ -76,12 +77,21 @@ class TaskMonitor:
         print('[TaskMonitor] deactivated')
 
 
-def run(urdf: str, solver: str = 'daqp', dt: float = 0.1, ramp: float = 0.5, delay_s: float = 0.0):
-    robot, _ = make_robot(urdf)
+def run(
+    urdf: str,
+    solver: str = 'daqp',
+    dt: float = 0.1,
+    ramp: float = 0.5,
+    delay_s: float = 0.0,
+    base: str | None = None,
+    tool: str | None = None,
+):
+    robot, _ = make_robot(urdf, base)
+    tool = tool or tool_frame(robot)
     controller = make_controller(robot, solver)
-    target = make_transform([0.3, -0.5, 0.41], quat_from_rpy(np.pi, 0, 0))
+    target = make_transform(to_reach(robot, tool, [0.3, -0.5, 0.41]), quat_from_rpy(np.pi, 0, 0))
     cart_task = controller.add_task(CartesianTask, 'CartTask_EE')
-    cart_task.set_servo_controller(make_cartesian_servo('link_7', target))
+    cart_task.set_servo_controller(make_cartesian_servo(tool, target))
     cart_task.set_ramp_duration(ramp)
     add_standard_constraints(controller)
     monitor = TaskMonitor()
@@ -118,7 +128,13 @@ def main(argv=None) -> int:
     args = parse_args(
         __doc__, argv, lambda p: p.add_argument('--delay-ms', type=float, default=0.0)
     )
-    res = run(args.urdf, args.solver, delay_s=args.delay_ms / 1000.0)
+    res = run(
+        args.urdf,
+        args.solver,
+        delay_s=args.delay_ms / 1000.0,
+        base=args.base_frame,
+        tool=args.tool_frame,
+    )
     print('events:', ' -> '.join(res['events']))
     expected = ['activation', 'activated', 'deactivation', 'deactivated']
     return 0 if res['events'] == expected and res['deactivated'] else 1

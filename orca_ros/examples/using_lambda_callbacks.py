@@ -16,6 +16,7 @@ Callbacks as lambdas/closures driving a minimum-jerk Cartesian trajectory.
 
 When the task is activated, the trajectory starts from link_7's current position towards (0.3,
 -0.5, 0.41) m (pointing down), then goes back and forth between that point and (0.5, 0.2, 0.5) m.
+On another arm the tool frame and the points come from its model (see ``arm``).
 
 (The reference went back to the start, straight above the base: with the flange pointing down that
 pose is out of reach.) The arm's dynamics are integrated so the tracking can be checked.
@@ -27,6 +28,7 @@ import sys
 
 import numpy as np
 
+from .arm import to_reach, tool_frame
 from .common import (
     add_standard_constraints,
     integrate,
@@ -38,17 +40,28 @@ from .common import (
 from .. import CartesianTask, make_transform, MinJerkPositionTrajectory, quat_from_rpy
 
 
-def run(urdf: str, solver: str = 'daqp', duration: float = 5.0, loops: int = 4, dt: float = 0.001):
-    robot, state = make_robot(urdf)
+def run(
+    urdf: str,
+    solver: str = 'daqp',
+    duration: float = 5.0,
+    loops: int = 4,
+    dt: float = 0.001,
+    base: str | None = None,
+    tool: str | None = None,
+):
+    robot, state = make_robot(urdf, base)
+    tool = tool or tool_frame(robot)
     controller = make_controller(robot, solver)
-    servo = make_cartesian_servo('link_7')
+    servo = make_cartesian_servo(tool)
     cart_task = controller.add_task(CartesianTask, 'CartTask_EE')
     cart_task.set_servo_controller(servo)
     add_standard_constraints(controller)
 
-    pose_ref = make_transform([0.3, -0.5, 0.41], quat_from_rpy(np.pi, 0, 0))
+    pose_ref = make_transform(
+        to_reach(robot, tool, [0.3, -0.5, 0.41]), quat_from_rpy(np.pi, 0, 0)
+    )
     end_position = pose_ref[:3, 3].copy()
-    other_position = np.array([0.5, 0.2, 0.5])
+    other_position = to_reach(robot, tool, [0.5, 0.2, 0.5])
     vel_ref, acc_ref = np.zeros(6), np.zeros(6)
     traj = MinJerkPositionTrajectory(duration)
     ctx = {'loops': 0, 'start': None, 'errors': []}
@@ -119,6 +132,8 @@ def run(urdf: str, solver: str = 'daqp', duration: float = 5.0, loops: int = 4, 
         'rms_tracking_error': float(np.sqrt(np.mean(looping**2))),
         'time': t,
         'first_segment_max_error': float(errors[: len(errors) // (loops + 1)].max()),
+        'tool': tool,
+        'points': (end_position, other_position),
     }
 
 
@@ -126,7 +141,13 @@ def main(argv=None) -> int:
     args = parse_args(
         __doc__, argv, lambda p: p.add_argument('--duration', type=float, default=5.0)
     )
-    res = run(args.urdf, args.solver, duration=args.duration)
+    res = run(
+        args.urdf,
+        args.solver,
+        duration=args.duration,
+        base=args.base_frame,
+        tool=args.tool_frame,
+    )
     print(
         f"{res['loops']} trajectory segments in {res['time']:.2f} s; tracking error "
         f"max {res['max_tracking_error'] * 1e3:.4f} mm, rms {res['rms_tracking_error'] * 1e3:.4f} "
