@@ -25,8 +25,10 @@ robots independent.
 
 import numpy as np
 from orca_ros.examples import (
+    closed_loop_demo,
     plotting_torques,
     simple_controller,
+    simulating_results,
     using_callbacks,
     using_lambda_callbacks,
 )
@@ -98,3 +100,40 @@ def test_plotting_torques_on_the_ur5(ur5_urdf, tmp_path):
     after = np.linalg.norm(res['final_position'] - goal)
     print(f'ur5: tool {before * 1e3:.0f} mm -> {after * 1e3:.0f} mm from the target in 0.3 s')
     assert after < 0.6 * before
+
+
+def test_simulating_results_on_the_ur5(ur5_urdf):
+    res = simulating_results.run(ur5_urdf, duration=10.0, time_budget=1.0)
+    assert res['ok'], 'every cycle must have a solution'
+    # the stated target: towards the reference's point from the shoulder (upper_arm_link), at 80 %
+    # of the stretched arm's length (q = 0 is the UR5 stretched out)
+    robot, _ = make_robot(ur5_urdf)
+    robot.set_robot_state(np.zeros(6), np.zeros(6))
+    shoulder = robot.get_frame_pose('upper_arm_link')[:3, 3]
+    length = np.linalg.norm(robot.get_frame_pose('tool0')[:3, 3] - shoulder)
+    assert 0.8 < length < 0.9  # 0.425 + 0.392 m of arm, the wrist's offsets
+    d = simulating_results.REFERENCE_TARGET - shoulder
+    np.testing.assert_allclose(
+        res['target'][:3, 3], shoulder + d / np.linalg.norm(d) * 0.8 * length, atol=1e-9
+    )
+    print(f"ur5: final error {res['final_position_error'] * 1e3:.5f} mm, "
+          f"{res['final_orientation_error']:.4f} rad")
+    assert res['final_position_error'] < 1e-3 and res['final_orientation_error'] < 0.05
+    qlo, qhi = res['q_limits']
+    assert np.all(res['q'] >= qlo - 1e-9) and np.all(res['q'] <= qhi + 1e-9)
+    assert np.all(np.abs(res['v']) <= res['v_max'] + 1e-9)
+    assert np.all(res['tau_max'] <= UR5_EFFORT)
+    assert np.all(np.abs(res['tau']) <= res['tau_max'] + 1e-6)
+    assert np.max(np.abs(res['v'])) > 0.99 * np.min(res['v_max'])  # it had to work at the limit
+
+
+def test_closed_loop_demo_on_the_ur5(ur5_urdf, tmp_path, capsys):
+    code = closed_loop_demo.main(
+        [ur5_urdf, '--duration', '3', '--output-dir', str(tmp_path), '--time-budget', '1.0']
+    )
+    out = capsys.readouterr().out
+    assert '6-DoF arm, Cartesian target on tool0' in out
+    assert 'RESULT: target reached within limits' in out and code == 0
+    settle = float(out.split('settle time (error < 1 mm for good): ')[1].split(' s')[0])
+    assert 0.0 < settle < 3.0
+    assert (tmp_path / 'demo_torques_and_error.png').stat().st_size > 10_000

@@ -37,7 +37,14 @@ def main(argv=None) -> int:
 
     args = parse_args(__doc__, argv, extra)
     t0 = time.perf_counter()
-    res = run_simulation(args.urdf, args.solver, duration=args.duration)
+    res = run_simulation(
+        args.urdf,
+        args.solver,
+        duration=args.duration,
+        time_budget=args.time_budget,
+        base=args.base_frame,
+        tool=args.tool_frame,
+    )
     wall = time.perf_counter() - t0
     err = res['pos_err']
     settled = np.flatnonzero(err > 1e-3)
@@ -49,7 +56,8 @@ def main(argv=None) -> int:
     pos_margin = float(np.min(np.minimum(q - qlo, qhi - q)))
     vel_margin = float(np.min(res['v_max'] - np.abs(res['v'])))
     trq_margin = float(np.min(res['tau_max'] - np.abs(res['tau'])))
-    print('=== orca_ros demo: 7-DoF arm, Cartesian target, closed loop ===')
+    n = res['tau'].shape[1]
+    print(f"=== orca_ros demo: {n}-DoF arm, Cartesian target on {res['tool']}, closed loop ===")
     print(
         f"target {np.round(res['target'][:3, 3], 4)} m, final error "
         f"{res['final_position_error'] * 1e3:.4f} mm "

@@ -21,6 +21,10 @@ The reference target (1.0, 0.75, 0.5) m lies 1.26 m from this arm's shoulder whi
 0.87 m long from shoulder to flange, so it cannot be reached. The example aims at the point of the
 same direction from the shoulder at 80 % of the arm's length (``reachable_target``), with the
 reference's orientation (identity); a correct fixed-base controller must then *reach* it.
+
+Another arm's URDF works too: its tool frame (the tip of the chain), its shoulder (the link the
+second joint moves) and its start posture (q = 0 clipped into the joint limits) come from its
+model (see ``arm``), the target from the same rule.
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ import sys
 
 import numpy as np
 
+from .arm import posture, shoulder_frame as find_shoulder, tool_frame
 from .common import (
     add_standard_constraints,
     integrate,
@@ -47,18 +52,22 @@ def reachable_target(
     robot,
     target=REFERENCE_TARGET,
     fraction: float = 0.8,
-    shoulder_frame: str = 'link_2',
-    tip_frame: str = 'link_7',
+    shoulder_frame: str | None = None,
+    tip_frame: str | None = None,
 ) -> np.ndarray:
     """
     Point in the direction of ``target`` from the shoulder.
 
-    At most ``fraction`` of the arm's length.
+    At most ``fraction`` of the arm's length: the distance from the shoulder to the tip at q = 0
+    (clipped into the joint limits), the stretched arm for the lwr, the iiwa and the UR5. Frames:
+    by default the link the second joint moves and the tip of the chain (lwr: link_2, link_7).
     """
+    shoulder_frame = shoulder_frame or find_shoulder(robot)
+    tip_frame = tip_frame or tool_frame(robot)
     saved = robot.get_joint_positions(), robot.get_joint_velocities()
     n = robot.get_nr_of_degrees_of_freedom()
     robot.set_robot_state(
-        np.zeros(n), np.zeros(n)
+        posture(robot, np.zeros(n)), np.zeros(n)
     )  # straight arm: its length is the stretch distance
     shoulder = robot.get_frame_pose(shoulder_frame)[:3, 3]
     length = np.linalg.norm(robot.get_frame_pose(tip_frame)[:3, 3] - shoulder)
@@ -75,12 +84,15 @@ def run(
     dt: float = 0.001,
     remove_gravity: bool = False,
     time_budget: float | None = None,
+    base: str | None = None,
+    tool: str | None = None,
 ):
-    robot, state = make_robot(urdf)
+    robot, state = make_robot(urdf, base)
+    tool = tool or tool_frame(robot)
     controller = make_controller(robot, solver)
     controller.set_solver_budget(time_budget)
-    target = make_transform(reachable_target(robot), np.eye(3))
-    servo = make_cartesian_servo('link_7', target)
+    target = make_transform(reachable_target(robot, tip_frame=tool), np.eye(3))
+    servo = make_cartesian_servo(tool, target)
     controller.add_task(CartesianTask, 'CartTask_EE').set_servo_controller(servo)
     trq, pos, vel = add_standard_constraints(controller)
     controller.remove_gravity_torques_from_solution(remove_gravity)
@@ -117,7 +129,7 @@ def run(
         log['pos_err'].append(np.linalg.norm(p - target[:3, 3]))
         if k % 1000 == 0:
             _LOG.info(
-                't=%.1f s  link_7 at %s  error %.2e m', t, np.round(p, 4), log['pos_err'][-1]
+                't=%.1f s  %s at %s  error %.2e m', t, tool, np.round(p, 4), log['pos_err'][-1]
             )
         # the robot (here: the integrated model) receives the full torques; with gravity removed
         # from the command, its drives would add g(q) back
@@ -137,6 +149,7 @@ def run(
         q_limits=(qlo, qhi),
         v_max=vmax,
         tau_max=tmax,
+        tool=tool,
     )
     return res
 
@@ -145,9 +158,16 @@ def main(argv=None) -> int:
     args = parse_args(
         __doc__, argv, lambda p: p.add_argument('--duration', type=float, default=10.0)
     )
-    res = run(args.urdf, args.solver, duration=args.duration, time_budget=args.time_budget)
+    res = run(
+        args.urdf,
+        args.solver,
+        duration=args.duration,
+        time_budget=args.time_budget,
+        base=args.base_frame,
+        tool=args.tool_frame,
+    )
     print(
-        f"target {np.round(res['target'][:3, 3], 4)}; final link_7 position "
+        f"target {np.round(res['target'][:3, 3], 4)}; final {res['tool']} position "
         f"{np.round(res['final_pose'][:3, 3], 5)}"
     )
     print(
