@@ -144,7 +144,7 @@ def _ball_run(example_robot_urdf, with_constraint, pybullet=False, tmp_path=None
         return best
 
     q, v, dt = q0.copy(), np.zeros(model.nv), 1e-3
-    least, failures = np.inf, 0
+    least, failures, step, tau = np.inf, 0, 0.0, None
     with contextlib.ExitStack() as stack:
         if pybullet:
             sim, names, by_name, server = _pybullet_panda(stack, urdf, tmp_path, q0, centre)
@@ -157,6 +157,9 @@ def _ball_run(example_robot_urdf, with_constraint, pybullet=False, tmp_path=None
                 q, v = sim.get_joint_positions(by_name), sim.get_joint_velocities(by_name)
             robot.set_robot_state(q, v)
             failures += not c.update(k * dt, dt)
+            if tau is not None:
+                step = max(step, float(np.abs(c.get_joint_torque_command() - tau).max()))
+            tau = c.get_joint_torque_command().copy()
             if pybullet:
                 sim.set_joint_torque_command(c.get_joint_torque_command(), by_name)
                 server.step()
@@ -165,7 +168,7 @@ def _ball_run(example_robot_urdf, with_constraint, pybullet=False, tmp_path=None
                 q, v = integrate(robot, q, v, c.get_joint_torque_command(), dt)
             if k % 10 == 0:
                 least = min(least, distance(q))
-    return least, failures, float(np.linalg.norm(hand_pose(q)[:3, 3] - T1[:3, 3]))
+    return least, failures, float(np.linalg.norm(hand_pose(q)[:3, 3] - T1[:3, 3])), step
 
 
 def _pybullet_panda(stack, urdf, tmp_path, q0, centre):
@@ -205,14 +208,18 @@ def test_the_hand_goes_round_a_ball_on_its_path(example_robot_urdf, tmp_path, py
     at the least (the constraint keeps 20 mm between bodies it inflates by 10 mm each).
     """
     out = {flag: _ball_run(example_robot_urdf, flag, pybullet, tmp_path) for flag in (False, True)}
-    for flag, (least, failures, error) in out.items():
+    for flag, (least, failures, error, step) in out.items():
         print(f'constraint {flag}: least distance {least * 1e3:.1f} mm, {failures} failures, '
-              f'final hand error {error * 1e3:.2f} mm')
-    least, failures, error = out[True]
+              f'final hand error {error * 1e3:.2f} mm, largest torque step {step:.2f} Nm')
+    least, failures, error, step = out[True]
     assert least >= SAFETY - 1e-3
     assert failures == 0
     assert error < 1e-3  # round the ball, to the target
     assert out[False][0] < HIT[pybullet]  # without: into the ball
+    # 2.95 / 2.94 Nm measured (issue 21 asks 2: not met), the joints riding their velocity
+    # limits after the detour; 12.5 with 8 rows, a finger pair entering the budget already
+    # binding (CollisionAvoidanceConstraint's docstring). A guard against that, not the acceptance
+    assert step < 3.5, f'{step:.2f} Nm in one cycle'
 
 
 def test_collision_avoidance_from_yaml(example_robot_urdf):

@@ -19,7 +19,7 @@ A collision avoidance constraint from its configuration (``type: collision_avoid
       srdf: panda.srdf            # optional: its disable_collisions pairs are left out
       influence_distance: 0.1     # m
       safety_distance: 0.02       # m
-      max_pairs: 8
+      max_pairs: 16
       max_deceleration: 5.0       # m/s^2
       horizon: 0.1                # s
       obstacles: [table]          # names, each described below
