@@ -225,11 +225,12 @@ def test_the_screenshot_shows_the_robot(run):
 def test_obstacles_sent_to_the_controller_are_shown_and_removed(run):
     from visualization_msgs.msg import Marker, MarkerArray
 
-    tab, probe, empty = run['tab'], run['probe'], run['empty']
+    tab, probe = run['tab'], run['probe']
     pub = probe.node.create_publisher(MarkerArray, '/orca_controller/obstacles', 10)
     probe.wait_for(lambda: pub.get_subscription_count() > 0, 10, 'the page on the topic')
-    ball = np.array([0.3, 0.0, 0.8])  # in view, clear of the arm
+    ball = np.array([-0.2, -0.4, 0.1])  # in front of the arm's base, clear of it and the panel
     xy = tab.project(ball)
+    before = tab.shot()
 
     def send(action):
         m = Marker(action=action, type=Marker.SPHERE, ns='test', id=1)
@@ -240,10 +241,11 @@ def test_obstacles_sent_to_the_controller_are_shown_and_removed(run):
         pub.publish(MarkerArray(markers=[m]))
 
     def difference():
-        return np.abs(_patch(tab.shot(), xy) - _patch(empty, xy)).mean()
+        return np.abs(_patch(tab.shot(), xy) - _patch(before, xy)).mean()
 
     tab.wait(lambda: send(Marker.ADD) or difference() > 40, 20, 'the ball on the page')
     shown = difference()
+    tab.shot(run['out'] / 'obstacle.png')
     send(Marker.DELETE)  # once: the page has the topic (the ball came), a second is refused
     tab.wait(lambda: difference() < 2, 20, 'the ball gone')
     print(f'obstacle: mean difference {shown:.1f} where the ball is, {difference():.2f} after '
@@ -367,6 +369,41 @@ def test_two_tabs_one_closed_and_a_reload_shows_the_current_state(run):
           f'the arm reached the next target in {took:.2f} s (sim); after the reload the marker '
           f'moved {np.round(c - there, 1)} px, the target gizmo {np.round(gizmo_shift, 1)} px, '
           f'the end effector {np.round(shift, 1)} px')
+
+
+def test_the_active_checkbox_toggles_the_task_and_the_error_is_shown(run):
+    import re
+
+    from selenium.webdriver.common.by import By
+
+    probe, tab, driver = run['probe'], run['tab'], run['driver']
+
+    def active():
+        return probe.diagnostics.get('active_tasks', '').split(',')
+
+    def box():
+        return driver.find_elements(By.XPATH, "//label[normalize-space()='ee active']")
+
+    tab.wait(lambda: box(), 20, "the task's checkbox in the panel")
+    checkbox = driver.find_element(By.ID, box()[0].get_attribute('for'))
+    error = driver.find_element(
+        By.XPATH, "//label[normalize-space()='ee error']/following::input[1]"
+    )
+    tab.wait(lambda: re.fullmatch(r'\d+\.\d\d mm, \d+\.\d\d deg',
+                                  error.get_attribute('value')), 10, 'the error shown')
+    shown = error.get_attribute('value')
+    assert checkbox.is_selected() and 'ee' in active()
+    clicked = time.time()
+    box()[0].click()
+    probe.wait_for(lambda: 'ee' not in active(), 20, "the controller's ee task inactive")
+    # past the page's hold (2 s after the click) the diagnostics keep the box unchecked
+    time.sleep(max(0.0, clicked + 2.6 - time.time()))
+    assert not checkbox.is_selected() and 'posture' in active()
+    box()[0].click()
+    probe.wait_for(lambda: 'ee' in active(), 20, "the controller's ee task active again")
+    assert checkbox.is_selected()
+    print(f"panel: ee error shown as '{shown}'; unchecked -> active tasks without ee, checked "
+          f"-> {','.join(active())}")
 
 
 def test_without_viser_one_line(tmp_path):

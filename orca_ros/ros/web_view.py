@@ -21,9 +21,12 @@ restarted or reconfigured controller appear by themselves) the page shows the cu
 magenta ball with axes) and the target as a gizmo: dragging it publishes
 ``<controller>/tasks/<name>/target_pose`` in the frame the controller reports the task in, so the
 controller's own checks (frames, reach, smoothing) apply to it as to any other sender; a target
-sent by anyone else moves the gizmo. The obstacles sent to the controller's ``~/obstacles``
-(visualization_msgs/MarkerArray: SPHERE, CUBE, CYLINDER in the world, the base frame or on a link;
-read as the controller reads them, :mod:`.obstacle_markers`) are shown as blue shapes.
+sent by anyone else moves the gizmo. The page's panel has, per task, an ``active`` checkbox
+(calls the task's ``set_active``; shows the ``active_tasks`` of the controller's diagnostics) and
+its error (``~/tasks/<name>/error``, position and orientation). The obstacles sent to the
+controller's ``~/obstacles`` (visualization_msgs/MarkerArray: SPHERE, CUBE, CYLINDER in the world,
+the base frame or on a link; read as the controller reads them, :mod:`.obstacle_markers`) are
+shown as blue shapes.
 
 Parameters: ``host`` (127.0.0.1), ``port`` (8080; the next free one when taken), ``controller``
 (``/orca_controller``), ``rate`` (30 Hz, scene updates), ``floating_base`` (false),
@@ -38,12 +41,14 @@ import sys
 import threading
 import time
 
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import PoseStamped
 from nav_msgs.msg import Odometry
 import numpy as np
 from rclpy.qos import qos_profile_sensor_data
 from sensor_msgs.msg import JointState
-from std_msgs.msg import String
+from std_msgs.msg import Float64MultiArray, String
+from std_srvs.srv import SetBool
 from visualization_msgs.msg import Marker, MarkerArray
 
 from .common import DEFAULT_QOS, DESCRIPTION_QOS, matrix_to_pose, param, pose_to_matrix, run_node
@@ -53,6 +58,8 @@ from ..utils.optional_import import MissingDependency, optional_import
 from ..view.gizmos import GizmoBook
 
 POSE_TYPE = 'geometry_msgs/msg/PoseStamped'
+ERROR_PERIOD = 0.2  # s between two updates of a task's error on the page
+TOGGLE_HOLD = 2.0  # s after a click during which the diagnostics do not reset the checkbox
 
 
 class WebView(GuardedNode):
@@ -85,6 +92,9 @@ class WebView(GuardedNode):
         self._base_pose = None
         self._state_changed = False
         self._target_pubs: dict = {}
+        self._set_active: dict = {}  # task name -> SetBool client
+        self._error_shown: dict = {}  # task name -> when its error was last shown
+        self._toggled: dict = {}  # task name -> when a tab toggled it (its ramp takes a while)
         self._obstacles: dict = {}  # name -> (shape, size, pose, frame: None = the world)
         self._pattern = re.compile(rf'^{re.escape(self.ns)}/tasks/([^/]+)/current_pose$')
         urdf_path = str(param(self, 'urdf_path', ''))
@@ -104,6 +114,7 @@ class WebView(GuardedNode):
         self.create_subscription(
             MarkerArray, f'{self.ns}/obstacles', self._on_obstacles, DEFAULT_QOS
         )
+        self.create_subscription(DiagnosticArray, '/diagnostics', self._on_diagnostics, 10)
         self.create_timer(1.0 / float(param(self, 'rate', 30.0)), self._redraw)
         self.create_timer(0.5, self._discover_tasks)
         self._discover_tasks()
@@ -198,6 +209,12 @@ class WebView(GuardedNode):
                 PoseStamped, f'{base}/target_pose', lambda msg, n=name: self._on_target(n, msg),
                 DEFAULT_QOS,
             )
+            self.create_subscription(
+                Float64MultiArray, f'{base}/error', lambda msg, n=name: self._on_error(n, msg),
+                DEFAULT_QOS,
+            )
+            self._set_active[name] = self.create_client(SetBool, f'{base}/set_active')
+            self.page.add_task_controls(name, self._on_active_toggled)
             self.get_logger().info(f"task '{name}': its target draggable on the page")
 
     def _on_current(self, name: str, msg: PoseStamped) -> None:
@@ -221,6 +238,42 @@ class WebView(GuardedNode):
             moved = self.book.on_target(name, world)
         if moved and self.page.has_task(name):
             self.page.set_target(name, world)
+
+    def _on_error(self, name: str, msg: Float64MultiArray) -> None:
+        now = time.monotonic()
+        if now - self._error_shown.get(name, -1.0) < ERROR_PERIOD:
+            return
+        self._error_shown[name] = now
+        e = np.asarray(msg.data, dtype=float)
+        if e.size == 6:
+            angle = np.degrees(np.linalg.norm(e[3:]))
+            text = f'{np.linalg.norm(e[:3]) * 1e3:.2f} mm, {angle:.2f} deg'
+        else:
+            text = f'{np.linalg.norm(e):.4f}'
+        self.page.set_task_error(name, text)
+
+    def _on_diagnostics(self, msg: DiagnosticArray) -> None:
+        for status in msg.status:
+            values = {kv.key: kv.value for kv in status.values}
+            if 'active_tasks' not in values or not status.name.startswith(
+                self.ns.rsplit('/', 1)[-1] + ':'
+            ):
+                continue
+            active = set(filter(None, values['active_tasks'].split(',')))
+            now = time.monotonic()
+            for name in self._set_active:
+                if now - self._toggled.get(name, -10.0) > TOGGLE_HOLD:
+                    self.page.set_task_active(name, name in active)
+
+    def _on_active_toggled(self, name: str, value: bool) -> None:
+        """Ask the controller to (de)activate a task (viser's thread); it ramps it."""
+        client = self._set_active[name]
+        if not client.service_is_ready():
+            self.say('warning', f'set_active:{name}', f"task '{name}': no set_active service")
+            return
+        self._toggled[name] = time.monotonic()
+        client.call_async(SetBool.Request(data=value))
+        self.get_logger().info(f"task '{name}': {'activate' if value else 'deactivate'} asked")
 
     def _on_drag(self, name: str, phase: str, world_pose: np.ndarray) -> None:
         """Send a drag on the page (viser's thread) as a target on the controller's topic."""

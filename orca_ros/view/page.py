@@ -47,7 +47,6 @@ class Page:
         viser = optional_import('viser', 'web_view')
         self.server = viser.ViserServer(host=host, port=port, verbose=False)
         self.server.scene.set_up_direction('+z')
-        self.server.gui.main_panel.minimize()  # its scene tree would cover part of the view
         if camera is not None:
             position, look_at, fov = camera
             cam = self.server.initial_camera
@@ -56,6 +55,7 @@ class Page:
         self._meshes: list = []
         self._tasks: dict = {}  # name -> (gizmo handle, current-pose frame handle)
         self._obstacles: dict = {}  # name -> (shape, size, mesh handle)
+        self._controls: dict = {}  # task name -> (active checkbox, error text)
         self.server.scene.add_grid('/grid', width=2.0, height=2.0, cell_size=0.1)
 
     @property
@@ -109,6 +109,32 @@ class Page:
 
         gizmo.on_update(moved)
         self._tasks[name] = (gizmo, current)
+
+    def add_task_controls(self, name: str, on_active) -> None:
+        """
+        Add a task's panel entries: an ``active`` checkbox and its error (read only).
+
+        ``on_active(name, value)`` is called when a tab toggles the checkbox.
+        """
+        with self.server.gui.add_folder(f'task {name}'):
+            active = self.server.gui.add_checkbox(f'{name} active', True)
+            error = self.server.gui.add_text(f'{name} error', '', disabled=True)
+        # a tab's click only (client None: the node set the value, from the diagnostics)
+        active.on_update(
+            lambda event: event.client is not None and on_active(name, bool(event.target.value))
+        )
+        self._controls[name] = (active, error)
+
+    def has_task_controls(self, name: str) -> bool:
+        return name in self._controls
+
+    def set_task_active(self, name: str, value: bool) -> None:
+        box = self._controls[name][0]
+        if box.value != value:
+            box.value = value
+
+    def set_task_error(self, name: str, text: str) -> None:
+        self._controls[name][1].value = text
 
     def set_current(self, name: str, pose: np.ndarray) -> None:
         self._tasks[name][1].position, self._tasks[name][1].wxyz = to_position_wxyz(pose)
