@@ -32,9 +32,11 @@ SAFETY = 0.02  # the constraint's default
 
 
 def _marker(centre=(0.0, 0.0, 0.0), action=Marker.ADD, kind=Marker.SPHERE, scale=2 * RADIUS,
-            frame='world', ns='test', ident=1):
+            frame='world', ns='test', ident=1, stamp=None):
     m = Marker()
     m.header.frame_id = frame
+    if stamp is not None:  # the instant of the pose (simulated time)
+        m.header.stamp.sec, m.header.stamp.nanosec = int(stamp), int(round(stamp % 1.0 * 1e9))
     m.ns, m.id, m.type, m.action = ns, ident, kind, action
     m.pose.position = Point(x=float(centre[0]), y=float(centre[1]), z=float(centre[2]))
     m.pose.orientation.w = 1.0
@@ -109,7 +111,7 @@ def test_the_arm_yields_to_a_ball_and_returns_when_it_is_deleted(tmp_path):
             t = probe.sim_time()
             travel = min(SPEED * (t - t0), 0.35)
             centre = start + [0.0, travel, 0.0]
-            send(_marker(centre))
+            send(_marker(centre, stamp=t))
             track.append((t, centre))
             if travel >= 0.35 and t - t0 > 1.6:
                 break

@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 from visualization_msgs.msg import Marker, MarkerArray
 
-from .common import DEFAULT_QOS, pose_to_matrix
+from .common import DEFAULT_QOS, pose_to_matrix, stamp_to_sec
 from ..constraint.collision_avoidance import CollisionAvoidanceConstraint
 
 _SHAPES = {Marker.SPHERE: 'sphere', Marker.CUBE: 'box', Marker.CYLINDER: 'cylinder'}
@@ -95,8 +95,14 @@ class ObstacleMarkers:
             return
         shape, size, pose, frame = marker_obstacle(m, self.robot.get_base_frame())
         spec = (shape, size, frame)
-        now, velocity = self._now(), None
+        # the instant of the pose: its stamp where it has one (a pose and its time travel
+        # together), else its receipt; receipts jitter against the poses (in lockstep, a marker
+        # computed for one step read in the next), and the velocity with them
+        stamped = stamp_to_sec(m.header.stamp) > 0.0
+        now, velocity = stamp_to_sec(m.header.stamp) if stamped else self._now(), None
         seen = self._marker_seen.get(name)
+        if seen is not None and seen[3] != stamped:
+            seen = None  # two clocks: no velocity across them
         if seen is not None and self._marker_specs.get(name) == spec and frame is None:
             # republished in the world: its velocity from the last two poses of different
             # instants (the constraint brakes for an obstacle closing in, not only for the arm)
@@ -111,4 +117,4 @@ class ObstacleMarkers:
                 c.add_obstacle(name, shape, size, pose, frame)
         self._marker_specs[name] = spec
         if seen is None or now > seen[0]:
-            self._marker_seen[name] = (now, pose[:3, 3].copy(), velocity)
+            self._marker_seen[name] = (now, pose[:3, 3].copy(), velocity, stamped)
