@@ -66,12 +66,15 @@ def tool_frame(robot) -> str:
     return bodies[-1]
 
 
-def posture(robot, q_lwr, margin: float = 0.05) -> np.ndarray:
+def posture(robot, q_lwr, margin: float = 0.05, clearance: float = 0.05) -> np.ndarray:
     """
-    Return the lwr posture ``q_lwr`` for this arm, inside its joint limits.
+    Return the lwr posture ``q_lwr`` for this arm, inside its joint limits, above its base.
 
     Joint by joint (zeros past the lwr's seven, dropped past this arm's), clipped to ``margin``
-    of each joint's range from its limits.
+    of each joint's range from its limits. Arms turn their joints the other way round too (the
+    UR5's shoulder lowers the arm where the lwr's raises it): when a link the second joint or a
+    later one moves comes within ``clearance`` [m] of the base's xy plane (the floor), the mirrored
+    posture -q is taken, or q = 0 (clipped) when that dips too.
     """
     n = robot.get_nr_of_degrees_of_freedom()
     q = np.zeros(n)
@@ -80,7 +83,26 @@ def posture(robot, q_lwr, margin: float = 0.05) -> np.ndarray:
     q[:m] = q_lwr[:m]
     lo, hi = robot.get_joint_position_limits()
     room = margin * np.where(np.isfinite(hi - lo), hi - lo, 0.0)
-    return np.clip(q, lo + room, hi - room)
+    candidates = [np.clip(c, lo + room, hi - room) for c in (q, 0.0 - q, np.zeros(n))]
+    for c in candidates:
+        if _lowest_link(robot, c) >= clearance:
+            return c
+    return candidates[0]
+
+
+def _lowest_link(robot, q) -> float:
+    """Height over the base's plane of the lowest link the second joint or a later one moves."""
+    model = robot.model
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    fid = robot.get_frame_id(robot.get_base_frame())
+    base = data.oMf[fid] if fid >= 0 else pin.SE3.Identity()
+    heights = [
+        base.actInv(data.oMf[i]).translation[2]
+        for i, f in enumerate(model.frames)
+        if f.type == pin.FrameType.BODY and f.parentJoint >= 2
+    ]
+    return min(heights) if heights else np.inf
 
 
 @lru_cache(maxsize=1)

@@ -16,7 +16,8 @@ Set robot state with gravity compensation.
 
 The arm is put in a configuration and held there by the torques g(q) from the core's RobotModel
 (emulating drives with built-in gravity compensation), so it stays still; then the same without
-compensation falls.
+compensation falls. Any arm's URDF: its start posture is the lwr's clipped into its joint limits
+(see ``arm``).
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ import sys
 
 import numpy as np
 
+from .arm import posture
 from .sim_common import parse_sim_args
 from .. import RobotModel
 from ..sim import SimServer
@@ -35,7 +37,7 @@ def run(urdf: str, duration: float = 2.0, gui: bool = False, compensate: bool = 
     robot.load_model_from_file(urdf)
     with SimServer(gui=gui) as server:
         model = server.insert_model_from_urdf_file(urdf)
-        q0 = np.array([0.4, 0.8, -0.3, -1.1, 0.5, 0.7, 0.1])
+        q0 = posture(robot, [0.4, 0.8, -0.3, -1.1, 0.5, 0.7, 0.1])
         by_name = model.joint_map(robot.get_joint_names())  # the simulator's order may differ
         model.set_model_configuration(by_name.names, q0)
 
@@ -43,9 +45,8 @@ def run(urdf: str, duration: float = 2.0, gui: bool = False, compensate: bool = 
             robot.set_robot_state(
                 model.get_joint_positions(by_name), model.get_joint_velocities(by_name)
             )
-            model.set_joint_gravity_torques(
-                by_name.to_sim(robot.get_joint_gravity_torques() if compensate else np.zeros(7))
-            )
+            g = robot.get_joint_gravity_torques() if compensate else np.zeros(q0.size)
+            model.set_joint_gravity_torques(by_name.to_sim(g))
 
         compensate_gravity(0, 0.0, server.time_step)
         model.execute_after_world_update(compensate_gravity)

@@ -16,7 +16,8 @@ Simulating multiple robots.
 
 Two arms side by side in one world, each put in its own configuration (the reference's "set robot
 state" too); the first is held by gravity compensation, the second is left unpowered and falls, and
-each model reports only its own joints.
+each model reports only its own joints. Any arm's URDF: the postures are the lwr's clipped into
+its joint limits (see ``arm``).
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ import sys
 
 import numpy as np
 
+from .arm import posture
 from .sim_common import parse_sim_args
 from .. import RobotModel
 from ..sim import SimServer
@@ -36,8 +38,8 @@ def run(urdf: str, duration: float = 1.0, gui: bool = False):
     with SimServer(gui=gui) as server:
         left = server.insert_model_from_urdf_file(urdf, position=(0.0, -0.6, 0.0), name='left')
         right = server.insert_model_from_urdf_file(urdf, position=(0.0, 0.6, 0.0), name='right')
-        q_left = np.array([0.2, 0.6, 0.0, -1.0, 0.0, 0.5, 0.0])
-        q_right = np.array([-0.2, 0.4, 0.3, -0.8, 0.0, 0.4, 0.0])
+        q_left = posture(robot, [0.2, 0.6, 0.0, -1.0, 0.0, 0.5, 0.0])
+        q_right = posture(robot, [-0.2, 0.4, 0.3, -0.8, 0.0, 0.4, 0.0])
         names = robot.get_joint_names()  # arrays below are in this (Pinocchio's) order
         left.set_model_configuration(names, q_left)
         right.set_model_configuration(names, q_right)

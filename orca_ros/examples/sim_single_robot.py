@@ -15,7 +15,8 @@
 Simulating a single robot.
 
 The arm is loaded in PyBullet with no command and falls under gravity; the after-step callback
-prints its joint positions.
+prints its joint positions. Any arm's URDF: its start posture is the lwr's clipped into its joint
+limits (see ``arm``).
 """
 
 from __future__ import annotations
@@ -24,21 +25,29 @@ import sys
 
 import numpy as np
 
+from .arm import posture
 from .sim_common import parse_sim_args
+from .. import RobotModel
 from ..sim import SimServer
 
 
 def run(urdf: str, duration: float = 2.0, gui: bool = False):
+    robot = RobotModel()
+    robot.load_model_from_file(urdf)
     with SimServer(gui=gui) as server:
-        model = server.insert_model_from_urdf_file(urdf, name='lwr')
-        q0 = np.array([0.0, 0.3, 0.0, -0.3, 0.0, 0.2, 0.0])
-        model.set_model_configuration(model.get_joint_names(), q0)
+        model = server.insert_model_from_urdf_file(urdf, name='arm')
+        q0 = posture(robot, [0.0, 0.3, 0.0, -0.3, 0.0, 0.2, 0.0])
+        by_name = model.joint_map(robot.get_joint_names())  # the simulator's order may differ
+        model.set_model_configuration(by_name.names, q0)
         log = []
-        model.execute_after_world_update(
-            lambda n, t, dt: log.append(model.get_joint_positions()) if n % 100 == 0 else None
-        )
+
+        def every_100th(n, t, dt):
+            if n % 100 == 0:
+                log.append(model.get_joint_positions(by_name))
+
+        model.execute_after_world_update(every_100th)
         server.run(duration)
-        return {'q0': q0, 'q': model.get_joint_positions(), 'log': np.array(log)}
+        return {'q0': q0, 'q': model.get_joint_positions(by_name), 'log': np.array(log)}
 
 
 def main(argv=None) -> int:
