@@ -20,13 +20,15 @@ derives the base frame (the root link), the tool frame (the tip of the chain), t
 model (orca_ros/examples/arm.py). Here each runs on the UR5 of example-robot-data (6 joints, other
 names, other lengths) or the iiwa of pybullet_data, and its own claim is checked: target reached
 or tracked within the example's tolerance, limits kept, the arm held by gravity compensation, two
-robots independent.
+robots independent. quadruped.py (and its log, quadruped_log.py) run on Go1 of
+example-robot-data (13 kg, 5x the shipped quadruped's mass, other names, SRDF standing pose).
 """
 
 import numpy as np
 from orca_ros.examples import (
     closed_loop_demo,
     plotting_torques,
+    quadruped,
     sim_controller_in_the_loop,
     sim_gravity_compensation,
     sim_multiple_robots,
@@ -186,3 +188,55 @@ def test_sim_controller_in_the_loop_on_the_ur5(ur5_urdf):
           f"rms {res['rms_error'] * 1e3:.2f} mm")
     assert res['legs'] >= 1
     assert res['max_error'] < 5e-3  # the example's claim with its 2 s legs
+
+
+@pytest.fixture(scope='module')
+def go1_lift(example_robot_urdf, tmp_path_factory):
+    """Go1 in the example: stand 1 s, lean, lift its front left foot 5 cm, set it down."""
+    src = example_robot_urdf('go1_description/urdf/go1.urdf')
+    path = tmp_path_factory.mktemp('go1') / 'go1.urdf'
+    with open(src) as f:
+        path.write_text(resolve_package_uris(f.read(), src))
+    go1 = quadruped.from_urdf(str(path), example_robot_urdf('go1_description/srdf/go1.srdf'))
+    log, phases, qc = quadruped.run_in_pybullet('lift', stand_time=1.0, quad=go1)
+    return go1, log, phases, qc
+
+
+def test_quadruped_example_on_go1(go1_lift):
+    go1, log, phases, _ = go1_lift
+    assert go1.trunk == 'base' and go1.foot_radius == 0.02
+    assert go1.feet == {'FL': 'FL_foot', 'FR': 'FR_foot', 'HL': 'RL_foot', 'HR': 'RR_foot'}
+    report = quadruped.summarize(log, phases)
+    print('go1:', {k: round(v, 5) for k, v in report.items()})
+    assert report['QP failures'] == 0  # the example's own check
+    assert report['stand: base error max [mm]'] < 0.1  # the tutorial's claim on the shipped one
+    assert report['lift: base error max [mm]'] < 1.0
+    a = log.arrays()
+    lift = (a['t'] >= phases['lift'][0]) & (a['t'] < phases['lift'][1])
+    fl = a['feet'][lift, 0, :]
+    assert fl[:, 2].max() - fl[0, 2] > 0.045  # lifted ~5 cm (PyBullet's foot)
+    assert abs(fl[-1, 2] - fl[0, 2]) < 1e-4  # and set down where it stood
+    assert np.linalg.norm(fl[-1, :2] - fl[0, :2]) < 2e-3
+
+
+def test_quadruped_log_on_go1(go1_lift):
+    _, log, phases, qc = go1_lift
+    a = log.arrays()
+    F, t = a['forces'], a['t']
+    assert a['dynamics'].max() < 1e-8  # every solution satisfies the equation of motion
+    assert a['cone'].max() < 1e-6 and F[:, :, 2].min() > -1e-6
+    assert np.all(F[:, :, 2] <= a['bounds'] + 1e-6)
+    lift = (t >= phases['lift'][0]) & (t < phases['lift'][1])
+    assert a['bounds'][lift, 0].min() == 0.0 and not a['loaded'][lift, 0].all()
+    assert a['loaded'][~lift].all()  # the other phases stand on four feet
+    # 13 kg on the feet, summed over the four: the weight once settled
+    settled = (t > 0.5) & ~lift
+    weight = 9.81 * qc.robot.get_total_mass()
+    np.testing.assert_allclose(F[settled, :, 2].sum(axis=1), weight, rtol=0.05)
+    dt = t[1] - t[0]
+    for i in range(4):  # the loaded feet do not slide (< 0.1 mm, the shipped robot's bound)
+        on = a['loaded'][:, i] & (t >= 0.5)
+        edges = np.flatnonzero(np.diff(np.concatenate(([0], on.astype(int), [0]))))
+        for start, stop in zip(edges[::2], edges[1::2]):
+            path = np.cumsum(a['slip'][start:stop, i], axis=0) * dt
+            assert np.linalg.norm(path, axis=1).max() < 1e-4

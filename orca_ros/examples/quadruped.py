@@ -22,8 +22,11 @@ while a foot is in the air, torque / position / velocity limits, the CoM over th
 :func:`run_in_pybullet` closes the loop on PyBullet and logs what the acceptance tests check
 (tracking, foot slip, cone margins, normal-force steps).
 
-Run: ``python -m orca_ros.examples.quadruped [--scenario stand|shift|lift|all] [--gui] [--solver
-osqp]``
+Another quadruped: its URDF (and an SRDF with its standing pose), the trunk, feet and standing
+configuration derived from them (:mod:`.quadruped_robot`).
+
+Run: ``python -m orca_ros.examples.quadruped [urdf [--srdf SRDF]] [--scenario stand|shift|lift|all]
+[--gui] [--solver osqp]``
 """
 
 from __future__ import annotations
@@ -31,8 +34,18 @@ from __future__ import annotations
 import argparse
 
 import numpy as np
+import pinocchio as pin
 
 from .quadruped_log import dynamics_residual, record_step, RunLog  # noqa: F401 (re-exported)
+from .quadruped_robot import (  # noqa: F401 (re-exported)
+    FOOT_RADIUS,
+    from_urdf,
+    LEGS,
+    Quadruped,
+    shipped,
+    STAND_HEIGHT,
+    STAND_Q,
+)
 from .. import (
     BalanceConstraint,
     CartesianTask,
@@ -47,29 +60,26 @@ from .. import (
     QPSolver,
     ResolutionStrategy,
     RobotModel,
-    share_path,
 )
 
-LEGS = ('FL', 'FR', 'HL', 'HR')
-STAND_Q = np.tile([0.0, 0.7, -1.4], 4)  # feet under the hips
-STAND_HEIGHT = (
-    0.2 * 2 * np.cos(0.7) + 0.02
-)  # trunk origin above the ground: two 0.2 m segments + foot radius
 GRAVITY = np.array([0.0, 0.0, -9.81])
-FOOT_RADIUS = 0.02
 
 
 def quadruped_urdf() -> str:
-    return share_path('urdf', 'quadruped.urdf')
+    return shipped().urdf
 
 
-def make_robot(urdf: str | None = None) -> RobotModel:
+def make_robot(urdf: str | None = None, quad: Quadruped | None = None) -> RobotModel:
+    """Load the quadruped (default: the shipped one) standing, in the world frame."""
+    quad = quad or shipped()
     robot = RobotModel('quadruped')
-    robot.load_model_from_file(urdf or quadruped_urdf(), floating_base=True)
+    robot.load_model_from_file(urdf or quad.urdf, floating_base=True)
     robot.set_base_frame('world')
     T = np.eye(4)
-    T[2, 3] = STAND_HEIGHT
-    robot.set_robot_state(T, STAND_Q, np.zeros(6), np.zeros(12), GRAVITY)
+    T[:3, :3] = pin.Quaternion(np.asarray(quad.q[3:7])).toRotationMatrix()
+    T[:3, 3] = quad.home
+    n = quad.joints.size
+    robot.set_robot_state(T, quad.joints, np.zeros(6), np.zeros(n), GRAVITY)
     return robot
 
 
@@ -87,6 +97,7 @@ class QuadrupedController:
         horizontal_weight: float = 5.0,
         contact_velocity_gain: float = 200.0,
         joint_braking: float = 100.0,
+        quad: Quadruped | None = None,
     ):
         """
         Make the standing controller.
@@ -107,26 +118,28 @@ class QuadrupedController:
           arm; these legs (25 Nm on links of 0.25-1 kg) brake much harder, and at 5 a knee 1.2 rad
           from its limit may not turn faster than 3.5 rad/s: the unloaded legs of a pushed robot
           then cannot follow it (the push fails with 5 and 20, holds with 50 to 200).
+
+        ``quad``: the trunk, feet and standing posture (default: the shipped quadruped's).
         """
+        quad = quad or shipped()
         self.robot = robot
+        self.feet = dict(quad.feet)
         c = self.controller = Controller(
             'quadruped', robot, strategy, QPSolver.from_string(str(solver))
         )
         self.contacts = {}
         for leg in LEGS:
-            ct = Contact(f'{leg}_contact', f'{leg}_foot')
+            ct = Contact(f'{leg}_contact', quad.feet[leg])
             ct.set_friction_coefficient(mu)
             ct.set_margin(margin)
             ct.set_maximum_normal_force(300.0)
-            ct.set_ramp_duration(
-                0.0
-            )  # standing from the first cycle; later switches ramp (see update)
+            ct.set_ramp_duration(0.0)  # standing from the first cycle; later switches ramp
             ct.set_velocity_feedback_gain(contact_velocity_gain)
             self.contacts[leg] = c.add_constraint(ct)
         self.contact_ramp = contact_ramp
         self._started = False
         self.base = c.add_task(CartesianTask, 'base')
-        self.base.set_control_frame('trunk')
+        self.base.set_control_frame(quad.trunk)
         pid = self.base.servo_controller().pid()
         pid.set_proportional_gain([900.0, 900.0, 900.0, 400.0, 400.0, 400.0])
         pid.set_derivative_gain([60.0, 60.0, 60.0, 40.0, 40.0, 40.0])
@@ -135,11 +148,11 @@ class QuadrupedController:
         self.posture.set_weight(1e-3)
         self.posture.pid().set_proportional_gain(25.0)
         self.posture.pid().set_derivative_gain(10.0)
-        self.posture.set_desired(STAND_Q)
+        self.posture.set_desired(quad.joints)
         self.swing = {}
         for leg in LEGS:
             t = c.add_task(CartesianTask, f'{leg}_swing')
-            t.set_control_frame(f'{leg}_foot')
+            t.set_control_frame(quad.feet[leg])
             t.set_selection_vector([1, 1, 1, 0, 0, 0])
             t.servo_controller().pid().set_proportional_gain(900.0)
             t.servo_controller().pid().set_derivative_gain(60.0)
@@ -207,13 +220,17 @@ def sinusoid(s: float, amplitude: float, period: float, duration: float):
     )
 
 
-def insert_standing(server):
+def insert_standing(server, quad: Quadruped | None = None):
     """Insert the quadruped standing 1 mm above the ground; return (sim model, joint map)."""
+    quad = quad or shipped()
     sim = server.insert_model_from_urdf_file(
-        quadruped_urdf(), position=[0.0, 0.0, STAND_HEIGHT + 0.001], fixed_base=False
+        quad.urdf,
+        position=quad.home + [0.0, 0.0, 0.001],
+        orientation=quad.q[3:7],
+        fixed_base=False,
     )
-    names = make_robot().get_joint_names()
-    sim.set_model_configuration(names, STAND_Q)
+    names = make_robot(quad=quad).get_joint_names()
+    sim.set_model_configuration(names, quad.joints)
     return sim, sim.joint_map(names)  # Pinocchio's joint order <-> PyBullet's (the file's)
 
 
@@ -237,18 +254,24 @@ def run_in_pybullet(
     amplitude: float = 0.05,
     period: float = 2.0,
     lift: float = 0.05,
+    quad: Quadruped | None = None,
 ):
-    """Run the closed loop on PyBullet at 1 kHz; returns (log, phase boundaries dict)."""
+    """
+    Run the closed loop on PyBullet at 1 kHz; returns (log, phase boundaries dict).
+
+    ``quad``: the quadruped (default: the shipped one).
+    """
     from ..sim import SimServer
 
-    robot = make_robot()
-    qc = QuadrupedController(robot, solver)
+    quad = quad or shipped()
+    robot = make_robot(quad=quad)
+    qc = QuadrupedController(robot, solver, quad=quad)
     c = qc.controller
-    home = np.array([0.0, 0.0, STAND_HEIGHT])
+    home = np.array(quad.home)
     log = RunLog()
     phases = {}
     with SimServer(gui=gui, time_step=0.001) as server:
-        sim, by_name = insert_standing(server)
+        sim, by_name = insert_standing(server, quad)
         dt = server.time_step
         state = {'t': 0.0}
 
@@ -260,7 +283,7 @@ def run_in_pybullet(
                 log.failures += 1
             sim.set_joint_torque_command(c.get_joint_torque_command(), by_name)
             server.step()
-            record_step(log, qc, sim, t, target, FOOT_RADIUS)
+            record_step(log, qc, sim, t, target, quad.foot_radius)
             state['t'] = t + dt
 
         def hold(target, duration):
@@ -292,9 +315,9 @@ def _lift_foot(qc, step, hold, home, state, dt, lift, leg='FL'):
     Unload and lift ``leg`` by ``lift``, set it down, reload.
     """
     t0 = state['t']
-    lean = home + np.array(
-        [-0.012, -0.012, 0.0]
-    )  # toward the opposite foot: CoM inside the triangle
+    foot = qc.robot.get_frame_pose(qc.feet[leg])[:2, 3] - home[:2]
+    # toward the opposite foot: CoM inside the triangle
+    lean = home + np.r_[-0.012 * np.sign(foot), 0.0]
     traj = MinJerkPositionTrajectory(0.5)
     traj.reset_trajectory(home, lean)
     for k in range(int(round(0.5 / dt))):
@@ -304,11 +327,11 @@ def _lift_foot(qc, step, hold, home, state, dt, lift, leg='FL'):
     contact.deactivate()
     while not contact.is_deactivated():
         step(lean)
-    foot0 = qc.robot.get_frame_pose(f'{leg}_foot')
+    foot0 = qc.robot.get_frame_pose(qc.feet[leg])
     swing.servo_controller().set_desired(foot0)
     swing.activate()
     for up, duration in ((lift, 0.6), (-lift - 0.003, 0.6)):
-        start = qc.robot.get_frame_pose(f'{leg}_foot')[:3, 3] if up < 0 else foot0[:3, 3]
+        start = qc.robot.get_frame_pose(qc.feet[leg])[:3, 3] if up < 0 else foot0[:3, 3]
         goal = foot0[:3, 3] + [0.0, 0.0, max(up, -0.003)]
         traj = MinJerkPositionTrajectory(duration)
         traj.reset_trajectory(start, goal)
@@ -343,9 +366,13 @@ def main(argv=None) -> int:
     ap.add_argument('--solver', default='daqp', choices=[s.value for s in QPSolver])
     ap.add_argument('--gui', action='store_true')
     ap.add_argument('--stand-time', type=float, default=10.0)
+    ap.add_argument('urdf', nargs='?', default=None, help='a quadruped (default: the shipped one)')
+    ap.add_argument('--srdf', default=None, help="SRDF with the URDF's 'standing' pose")
+    ap.add_argument('--foot-radius', type=float, default=None, help="[m] (default: the URDF's)")
     args = ap.parse_args(rest)
+    quad = args.urdf and from_urdf(args.urdf, args.srdf, foot_radius=args.foot_radius)
     log, phases, _ = run_in_pybullet(
-        args.scenario, args.solver, args.gui, stand_time=args.stand_time
+        args.scenario, args.solver, args.gui, stand_time=args.stand_time, quad=quad
     )
     report = summarize(log, phases)
     for k, v in report.items():

@@ -55,10 +55,11 @@ def record_step(log, qc, sim_model, t, target, foot_radius: float) -> None:
     log.t.append(t)
     log.base.append(robot.get_world_to_base_transform()[:3, 3].copy())
     log.base_target.append(np.array(target))
-    log.feet.append(np.array([sim_model.get_link_position(f'{leg}_foot') for leg in legs]))
+    feet = getattr(qc, 'feet', {leg: f'{leg}_foot' for leg in legs})
+    log.feet.append(np.array([sim_model.get_link_position(feet[leg]) for leg in legs]))
     slip = []
     for leg in legs:  # the sphere's material point touching the ground moves at v_c + w x (-r z)
-        lin, ang = sim_model.get_link_velocity(f'{leg}_foot')
+        lin, ang = sim_model.get_link_velocity(feet[leg])
         slip.append((lin + np.cross(ang, [0.0, 0.0, -foot_radius]))[:2])
     log.slip.append(slip)
     F = qc.contact_forces()
