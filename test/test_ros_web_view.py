@@ -406,6 +406,45 @@ def test_the_active_checkbox_toggles_the_task_and_the_error_is_shown(run):
           f"-> {','.join(active())}")
 
 
+def test_the_solve_time_plot_shows_what_the_diagnostics_carried(run):
+    import re
+
+    from diagnostic_msgs.msg import DiagnosticArray
+    from selenium.webdriver.common.by import By
+
+    probe, tab, driver = run['probe'], run['tab'], run['driver']
+    seen = set()  # (median, p99) of every report of the controller from now on
+
+    def record(msg):
+        for st in msg.status:
+            if st.name.startswith('orca_controller:'):
+                v = {kv.key: kv.value for kv in st.values}
+                seen.add((float(v['solve_time_median_us']), float(v['solve_time_p99_us'])))
+
+    probe.node.create_subscription(DiagnosticArray, '/diagnostics', record, 10)
+
+    def shown():
+        titles = [e.text for e in driver.find_elements(By.CSS_SELECTOR, '.u-title')]
+        m = [re.fullmatch(r'solve time \[us\]: median ([\d.]+), p99 ([\d.]+)', t) for t in titles]
+        return [(float(x.group(1)), float(x.group(2))) for x in m if x]
+
+    folder = "//*[normalize-space(text())='solve time']"
+    tab.wait(lambda: driver.find_elements(By.XPATH, folder), 20, "the plot's folder")
+    driver.find_element(By.XPATH, folder).click()  # folded at first
+    # the page's newest values are those of a report the probe saw too (both get every one)
+    tab.wait(lambda: any(p in seen for p in shown()), 20, 'the solve times of a report plotted')
+    median, p99 = [p for p in shown() if p in seen][0]
+    width = driver.execute_script(
+        'const c = document.querySelector(".uplot canvas");'
+        ' return c ? c.getBoundingClientRect().width : 0;'
+    )
+    tab.shot(run['out'] / 'solve_time.png')
+    driver.find_element(By.XPATH, folder).click()
+    assert width > 100 and 0.0 < median <= p99
+    print(f'solve time plot: median {median} us, p99 {p99} us as in /diagnostics '
+          f'({len(seen)} reports seen)')
+
+
 def test_without_viser_one_line(tmp_path):
     """A Python without viser: ``web_view`` says so in one line; the rest imports as before."""
     (tmp_path / 'viser.py').write_text(

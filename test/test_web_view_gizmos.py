@@ -81,3 +81,51 @@ def test_the_scene_places_the_arm_as_the_controller_model_does():
     # unknown joint names and NaN are left out; the state stays as it was
     scene.update({'no_joint': 1.0, 'joint_1': float('nan')})
     assert np.allclose(scene.frame_pose('link_7'), robot.get_frame_pose('link_7'))
+
+
+def _report(median, p99, **extra):
+    """Return one controller diagnostics status' values, as the node reads them (key -> text)."""
+    return {'solve_time_median_us': f'{median:.1f}', 'solve_time_p99_us': f'{p99:.1f}', **extra}
+
+
+def test_the_solve_time_history_keeps_what_the_diagnostics_carried():
+    from orca_ros.view.solve_times import SolveTimeHistory
+
+    h = SolveTimeHistory(window=1.0)
+    assert h.title() == 'solve time: none yet' and len(h.arrays()[0]) == 0
+    reports = [(10.0 + 0.2 * k, 100.0 + k, 250.0 + 3 * k) for k in range(8)]
+    for stamp, med, p99 in reports:
+        assert h.add(stamp, _report(med, p99, active_tasks='ee'))
+    t, med, p99 = h.arrays()
+    # the last second of stamps (11.4 - 1.0 = 10.4 onwards): the last 6 reports, values as sent
+    assert np.allclose(t, [-1.0, -0.8, -0.6, -0.4, -0.2, 0.0])
+    assert np.array_equal(med, [r[1] for r in reports[2:]])
+    assert np.array_equal(p99, [r[2] for r in reports[2:]])
+    assert h.title() == 'solve time [us]: median 107.0, p99 271.0'
+    # a report without solve times, or with none yet (nan), changes nothing
+    assert not h.add(11.6, {'active_tasks': 'ee'})
+    assert not h.add(11.6, _report(float('nan'), 1.0))
+    assert not h.add(11.6, {'solve_time_median_us': 'x', 'solve_time_p99_us': '1'})
+    assert len(h) == 6
+    # a stamp going back (the controller restarted): a new history
+    assert h.add(0.2, _report(90.0, 95.0))
+    t, med, p99 = h.arrays()
+    assert np.array_equal(t, [0.0]) and med[0] == 90.0 and p99[0] == 95.0
+
+
+def test_the_page_plots_the_history():
+    from orca_ros.view.page import Page
+    from orca_ros.view.solve_times import SolveTimeHistory
+
+    h = SolveTimeHistory()
+    page = Page(port=8791)
+    try:
+        for k in range(3):
+            h.add(float(k), _report(100.0 + k, 200.0 + k))
+            page.set_solve_times(*h.arrays(), h.title())
+        plot = page._solve_plot
+        assert [list(a) for a in plot.data] == [[-2.0, -1.0, 0.0], [100.0, 101.0, 102.0],
+                                                [200.0, 201.0, 202.0]]
+        assert plot.title == 'solve time [us]: median 102.0, p99 202.0'
+    finally:
+        page.stop()

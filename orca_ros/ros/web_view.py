@@ -23,15 +23,18 @@ magenta ball with axes) and the target as a gizmo: dragging it publishes
 controller's own checks (frames, reach, smoothing) apply to it as to any other sender; a target
 sent by anyone else moves the gizmo. The page's panel has, per task, an ``active`` checkbox
 (calls the task's ``set_active``; shows the ``active_tasks`` of the controller's diagnostics) and
-its error (``~/tasks/<name>/error``, position and orientation). The obstacles sent to the
+its error (``~/tasks/<name>/error``, position and orientation), and a live plot of the solve times
+the controller's diagnostics report (median and 99th percentile, :mod:`..view.solve_times`). The
+obstacles sent to the
 controller's ``~/obstacles`` (visualization_msgs/MarkerArray: SPHERE, CUBE, CYLINDER in the world,
 the base frame or on a link; read as the controller reads them, :mod:`.obstacle_markers`) are
 shown as blue shapes.
 
 Parameters: ``host`` (127.0.0.1), ``port`` (8080; the next free one when taken), ``controller``
 (``/orca_controller``), ``rate`` (30 Hz, scene updates), ``floating_base`` (false),
-``gizmo_scale`` (0.2 m), ``camera_position`` / ``camera_look_at`` / ``camera_fov`` (a tab's
-first view: [1.4, -1.4, 1.1], [0, 0, 0.4], 50 degrees), ``urdf_path`` (empty: the topic).
+``gizmo_scale`` (0.2 m), ``plot_window`` (30 s of solve times), ``camera_position`` /
+``camera_look_at`` / ``camera_fov`` (a tab's first view: [1.4, -1.4, 1.1], [0, 0, 0.4], 50
+degrees), ``urdf_path`` (empty: the topic).
 """
 
 from __future__ import annotations
@@ -56,6 +59,7 @@ from .guarded_node import GuardedNode
 from .obstacle_markers import marker_action, marker_obstacle
 from ..utils.optional_import import MissingDependency, optional_import
 from ..view.gizmos import GizmoBook
+from ..view.solve_times import SolveTimeHistory
 
 POSE_TYPE = 'geometry_msgs/msg/PoseStamped'
 ERROR_PERIOD = 0.2  # s between two updates of a task's error on the page
@@ -96,6 +100,7 @@ class WebView(GuardedNode):
         self._error_shown: dict = {}  # task name -> when its error was last shown
         self._toggled: dict = {}  # task name -> when a tab toggled it (its ramp takes a while)
         self._obstacles: dict = {}  # name -> (shape, size, pose, frame: None = the world)
+        self.solve_times = SolveTimeHistory(float(param(self, 'plot_window', 30.0)))
         self._pattern = re.compile(rf'^{re.escape(self.ns)}/tasks/([^/]+)/current_pose$')
         urdf_path = str(param(self, 'urdf_path', ''))
         if urdf_path:
@@ -259,6 +264,10 @@ class WebView(GuardedNode):
                 self.ns.rsplit('/', 1)[-1] + ':'
             ):
                 continue
+            stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
+            if self.solve_times.add(stamp, values):
+                self.page.set_solve_times(*self.solve_times.arrays(), self.solve_times.title(),
+                                          self.solve_times.window)
             active = set(filter(None, values['active_tasks'].split(',')))
             now = time.monotonic()
             for name in self._set_active:

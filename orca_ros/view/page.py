@@ -56,6 +56,7 @@ class Page:
         self._tasks: dict = {}  # name -> (gizmo handle, current-pose frame handle)
         self._obstacles: dict = {}  # name -> (shape, size, mesh handle)
         self._controls: dict = {}  # task name -> (active checkbox, error text)
+        self._solve_plot = None  # the solve times' uPlot chart, made at the first report
         self.server.scene.add_grid('/grid', width=2.0, height=2.0, cell_size=0.1)
 
     @property
@@ -135,6 +136,31 @@ class Page:
 
     def set_task_error(self, name: str, text: str) -> None:
         self._controls[name][1].value = text
+
+    def set_solve_times(self, t, median, p99, title: str, window: float = 30.0) -> None:
+        """
+        Plot the controller's solve times [us] against time [s] (:mod:`.solve_times`).
+
+        The time axis spans the last ``window`` seconds (fixed when the plot is made).
+        """
+        data = tuple(np.asarray(a, dtype=float) for a in (t, median, p99))
+        if self._solve_plot is None:
+            # folded at first: open, it would cover part of the scene
+            with self.server.gui.add_folder('solve time', expand_by_default=False):
+                self._solve_plot = self.server.gui.add_uplot(
+                    data,
+                    (
+                        {'label': 't [s]'},
+                        {'label': 'median [us]', 'stroke': '#1f77b4', 'width': 2},
+                        {'label': 'p99 [us]', 'stroke': '#d62728', 'width': 1},
+                    ),
+                    title=title, height=140,
+                    scales={'x': {'time': False, 'range': (-window, 0.0)}},
+                )
+            return
+        with self.server.atomic():
+            self._solve_plot.data = data
+            self._solve_plot.title = title
 
     def set_current(self, name: str, pose: np.ndarray) -> None:
         self._tasks[name][1].position, self._tasks[name][1].wxyz = to_position_wxyz(pose)
