@@ -18,8 +18,9 @@ The examples were written for the shipped lwr (``link_7`` on ``base_link``, 7 jo
 metres). For any serial arm given by its URDF they take:
 
 - the base frame: the URDF's root link (``RobotModel``'s default base frame);
-- the tool frame: the tip of the kinematic chain, the last link fixed on the joint farthest from
-  the root (lwr: ``link_7``; UR5 of example-robot-data: ``tool0``; iiwa: ``lbr_iiwa_link_7``);
+- the tool frame: the tip of the kinematic chain, the last link fixed on the joint that ends it
+  (before a gripper's fingers) (lwr: ``link_7``; UR5 of example-robot-data: ``tool0``; iiwa:
+  ``lbr_iiwa_link_7``);
 - a start posture: the lwr's, joint by joint (zeros for joints the lwr does not have), clipped
   into the joint limits with a margin of 5 % of each range;
 - targets: the lwr's points moved into this arm's reach sphere (:mod:`orca_ros.robot.reach`): the
@@ -57,11 +58,19 @@ def add_frame_args(parser) -> None:
 
 
 def tool_frame(robot) -> str:
-    """Return the tip of the chain: the last link on the joint farthest from the root."""
+    """
+    Return the tip of the chain: the last link on the joint that ends it.
+
+    That joint is the one without children, or, where the chain branches at its end (a gripper's
+    fingers), the last joint all the branches share (the Panda's hand: ``panda_hand_tcp``).
+    """
     model = robot.model
-    deepest = max(range(1, model.njoints), key=lambda j: len(model.supports[j]))
+    parents = set(model.parents[1:])
+    leaves = [j for j in range(1, model.njoints) if j not in parents]
+    shared = set.intersection(*(set(model.supports[j]) for j in leaves)) if leaves else {0}
+    end = leaves[0] if len(leaves) == 1 else max(shared)
     bodies = [
-        f.name for f in model.frames if f.parentJoint == deepest and f.type == pin.FrameType.BODY
+        f.name for f in model.frames if f.parentJoint == end and f.type == pin.FrameType.BODY
     ]
     return bodies[-1]
 
