@@ -240,3 +240,20 @@ def test_quadruped_log_on_go1(go1_lift):
         for start, stop in zip(edges[::2], edges[1::2]):
             path = np.cumsum(a['slip'][start:stop, i], axis=0) * dt
             assert np.linalg.norm(path, axis=1).max() < 1e-4
+
+
+def test_on_the_lwr_the_derivation_changes_nothing(lwr_urdf, example_robot_urdf):
+    from orca_ros.examples.arm import posture, shoulder_frame, to_reach, tool_frame
+
+    robot, state = make_robot(lwr_urdf)
+    assert (robot.get_base_frame(), tool_frame(robot), shoulder_frame(robot)) == (
+        'base_link', 'link_7', 'link_2')
+    assert np.all(state.joint_pos == 0.0)
+    for q in ([0.0, 0.3, 0.0, -0.3, 0.0, 0.2, 0.0], [0.4, 0.8, -0.3, -1.1, 0.5, 0.7, 0.1],
+              [0.2, 0.6, 0.0, -1.0, 0.0, 0.5, 0.0], [-0.2, 0.4, 0.3, -0.8, 0.0, 0.4, 0.0],
+              [0.0, 0.6, 0.0, -1.4, 0.0, 0.9, 0.0]):  # the examples' postures
+        assert np.array_equal(posture(robot, q), q)
+    for p in ([1.0, 0.75, 0.5], [0.3, -0.5, 0.41], [0.5, 0.2, 0.5], [0.45, 0.25, 0.55]):
+        assert np.array_equal(to_reach(robot, 'link_7', p), p)
+    panda, _ = make_robot(example_robot_urdf('panda_description/urdf/panda.urdf'))
+    assert tool_frame(panda) == 'panda_hand_tcp'  # where the fingers branch off
