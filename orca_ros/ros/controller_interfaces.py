@@ -20,7 +20,8 @@ model link, empty = the base frame) for Cartesian tasks, ``~/tasks/<name>/target
 and the feedback ``~/tasks/<name>/current_pose`` (PoseStamped) and ``~/tasks/<name>/error``
 (Float64MultiArray: pose error [linear, angular] or joint error), and ``~/cycle_timing``
 (Float64MultiArray, at the feedback rate: the cycles since the last message, as two rows of the
-layout ``field`` x ``cycle``: controller time [s], then solve time [s]). Node services:
+layout ``field`` x ``cycle``: controller time [s], then solve time [s]); ``~/markers`` at the
+same rate (:mod:`.controller_markers`). Node services:
 ``~/activate`` / ``~/deactivate`` (Trigger: every task and constraint, ramped), ``~/enable``
 (SetBool: false = hold with the safe command), ``~/reset_targets`` (Trigger: targets := current
 state). ``/diagnostics``: solver status, solve time, loop period and jitter, active tasks.
@@ -308,6 +309,7 @@ class ControllerInterfaces:
                 err.data = task.get_position_error().tolist()
             err_pub.publish(err)
         self._publish_cycle_timing()
+        self.publish_markers()
 
     def _publish_cycle_timing(self) -> None:
         total = self.solve_times.total

@@ -50,6 +50,7 @@ from .common import (
 )
 from .controller_diagnostics import ControllerDiagnostics
 from .controller_interfaces import ControllerInterfaces
+from .controller_markers import ControllerMarkers
 from .guarded_node import GuardedNode
 from .joint_state_input import JointStateInput
 from .live_parameters import LiveParameters
@@ -67,6 +68,7 @@ class OrcaControllerNode(
     StateReception,
     ControllerInterfaces,
     ControllerDiagnostics,
+    ControllerMarkers,
     TargetSmoothing,
     LiveParameters,
     ObstacleMarkers,
@@ -197,6 +199,7 @@ class OrcaControllerNode(
             )
         self.setup_trajectories(cfg['tasks'])
         self.setup_obstacles()
+        self.setup_markers()
         self.setup_interfaces(
             float(param(self, 'diagnostics_rate', 5.0)), float(param(self, 'feedback_rate', 50.0))
         )
