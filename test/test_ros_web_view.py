@@ -445,6 +445,55 @@ def test_the_solve_time_plot_shows_what_the_diagnostics_carried(run):
           f'({len(seen)} reports seen)')
 
 
+def test_the_controller_markers_are_drawn_and_deleted(run):
+    """A CoM ball and a force arrow on the controller's ~/markers appear where they are."""
+    from visualization_msgs.msg import Marker, MarkerArray
+
+    tab, probe = run['tab'], run['probe']
+    pub = probe.node.create_publisher(MarkerArray, '/orca_controller/markers', 10)
+    probe.wait_for(lambda: pub.get_subscription_count() > 0, 10, 'the page on the topic')
+    com = np.array([-0.2, -0.4, 0.1])
+    foot, top = np.array([0.05, -0.5, 0.0]), np.array([0.05, -0.5, 0.3])
+    where = {'com': tab.project(com), 'arrow': tab.project(0.5 * (foot + top))}
+    before = tab.shot()
+
+    def marker(ns, kind, action=Marker.ADD):
+        m = Marker(ns=ns, id=0, type=kind, action=action)
+        m.header.frame_id = 'world'
+        m.pose.orientation.w = 1.0
+        return m
+
+    ball = marker('com', Marker.SPHERE)
+    ball.pose.position.x, ball.pose.position.y, ball.pose.position.z = (float(v) for v in com)
+    ball.scale.x = ball.scale.y = ball.scale.z = 0.12
+    ball.color.r, ball.color.g, ball.color.a = 1.0, 0.85, 1.0
+    arrow = marker('contact_forces', Marker.ARROW)
+    arrow.points = [probe_point(foot), probe_point(top)]
+    arrow.scale.x, arrow.scale.y, arrow.scale.z = 0.04, 0.06, 0.06
+    arrow.color.r, arrow.color.a = 0.9, 1.0
+
+    def differences():
+        img = tab.shot()
+        return {k: np.abs(_patch(img, xy, 3) - _patch(before, xy, 3)).mean()
+                for k, xy in where.items()}
+
+    tab.wait(lambda: pub.publish(MarkerArray(markers=[ball, arrow]))
+             or min(differences().values()) > 40, 20, 'the CoM ball and the arrow on the page')
+    shown = differences()
+    tab.shot(run['out'] / 'markers.png')
+    pub.publish(MarkerArray(markers=[marker('', Marker.SPHERE, Marker.DELETEALL)]))
+    tab.wait(lambda: max(differences().values()) < 2, 20, 'the markers gone')
+    print(f'controller markers: mean difference {shown["com"]:.1f} (ball), '
+          f'{shown["arrow"]:.1f} (arrow) where they are; '
+          f'{max(differences().values()):.2f} after DELETEALL')
+
+
+def probe_point(p):
+    from geometry_msgs.msg import Point
+
+    return Point(x=float(p[0]), y=float(p[1]), z=float(p[2]))
+
+
 def test_without_viser_one_line(tmp_path):
     """A Python without viser: ``web_view`` says so in one line; the rest imports as before."""
     (tmp_path / 'viser.py').write_text(

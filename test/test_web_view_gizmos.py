@@ -129,3 +129,49 @@ def test_the_page_plots_the_history():
         assert plot.title == 'solve time [us]: median 102.0, p99 202.0'
     finally:
         page.stop()
+
+
+def test_an_arrow_mesh_from_its_start_to_its_end():
+    from orca_ros.view.shapes import arrow, z_onto
+
+    verts, faces = arrow(0.3, 0.005, 0.01, 0.03)
+    assert np.isclose(verts[:, 2].min(), 0.0) and np.isclose(verts[:, 2].max(), 0.3)
+    assert np.isclose(np.linalg.norm(verts[:, :2], axis=1).max(), 0.01)  # the head's radius
+    assert faces.min() == 0 and faces.max() == len(verts) - 1
+    short = arrow(0.01, 0.005, 0.01, 0.03)[0]  # the head at most half the arrow
+    assert np.isclose(short[:, 2].max(), 0.01) and np.isclose(short[short[:, 2] > 0.0051, 2]
+                                                              .min(), 0.01)
+    for d in ([0.3, -0.2, 0.5], [0.0, 0.0, -2.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]):
+        R = z_onto(d)
+        assert np.allclose(R @ [0.0, 0.0, 1.0], np.asarray(d) / np.linalg.norm(d))
+        assert np.allclose(R.T @ R, np.eye(3)) and np.isclose(np.linalg.det(R), 1.0)
+
+
+def test_the_page_draws_the_controller_markers_where_they_are():
+    from orca_ros.view.page import Page
+
+    page = Page(port=8795)
+    try:
+        page.set_marker_sphere('com/0', [0.1, 0.2, 0.3], 0.02, (1.0, 0.85, 0.0, 1.0))
+        poly = [[0.2, 0.1, 0.0], [-0.2, 0.1, 0.0], [-0.2, -0.1, 0.0], [0.2, -0.1, 0.0]]
+        page.set_marker_line('support_polygon/0', poly + poly[:1], 0.006, (0.1, 0.7, 0.2, 1.0))
+        page.set_marker_arrow('contact_forces/0', [0.2, 0.1, 0.0], [0.2, 0.1, 0.04], 0.01, 0.02,
+                              (0.9, 0.2, 0.1, 1.0))
+        com = page._markers['com/0'][1]
+        assert np.allclose(com.position, [0.1, 0.2, 0.3])
+        assert np.isclose(np.linalg.norm(com.vertices, axis=1).max(), 0.02)
+        line = page._markers['support_polygon/0'][1]
+        assert np.allclose(line.points[:, 0], poly) and np.allclose(line.points[-1, 1], poly[0])
+        arrow = page._markers['contact_forces/0'][1]
+        tip = to_matrix(arrow.position, arrow.wxyz) @ [0.0, 0.0, arrow.vertices[:, 2].max(), 1.0]
+        assert np.allclose(tip[:3], [0.2, 0.1, 0.04])
+        # a longer force: the same handle, the new length
+        page.set_marker_arrow('contact_forces/0', [0.2, 0.1, 0.0], [0.25, 0.1, 0.08], 0.01,
+                              0.02, (0.9, 0.2, 0.1, 1.0))
+        assert page._markers['contact_forces/0'][1] is arrow
+        tip = to_matrix(arrow.position, arrow.wxyz) @ [0.0, 0.0, arrow.vertices[:, 2].max(), 1.0]
+        assert np.allclose(tip[:3], [0.25, 0.1, 0.08])
+        page.remove_marker('com/0')
+        assert sorted(page.marker_names()) == ['contact_forces/0', 'support_polygon/0']
+    finally:
+        page.stop()

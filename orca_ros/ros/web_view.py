@@ -28,7 +28,9 @@ the controller's diagnostics report (median and 99th percentile, :mod:`..view.so
 obstacles sent to the
 controller's ``~/obstacles`` (visualization_msgs/MarkerArray: SPHERE, CUBE, CYLINDER in the world,
 the base frame or on a link; read as the controller reads them, :mod:`.obstacle_markers`) are
-shown as blue shapes.
+shown as blue shapes. The controller's ``~/markers`` (robots with contacts: the CoM, the support
+polygon, the contact forces as arrows, :mod:`.controller_markers`; SPHERE, LINE_STRIP and ARROW
+markers in their colours) are drawn as they come.
 
 Parameters: ``host`` (127.0.0.1), ``port`` (8080; the next free one when taken), ``controller``
 (``/orca_controller``), ``rate`` (30 Hz, scene updates), ``floating_base`` (false),
@@ -119,6 +121,9 @@ class WebView(GuardedNode):
         self.create_subscription(
             MarkerArray, f'{self.ns}/obstacles', self._on_obstacles, DEFAULT_QOS
         )
+        self.create_subscription(
+            MarkerArray, f'{self.ns}/markers', self._on_markers, DEFAULT_QOS
+        )
         self.create_subscription(DiagnosticArray, '/diagnostics', self._on_diagnostics, 10)
         self.create_timer(1.0 / float(param(self, 'rate', 30.0)), self._redraw)
         self.create_timer(0.5, self._discover_tasks)
@@ -188,6 +193,45 @@ class WebView(GuardedNode):
             except (ValueError, KeyError) as exc:
                 self.say('warning', f'obstacle:{name}',
                          f"obstacle marker '{name}' not shown: {exc}")
+
+    # ------------------------------------------------------------------ controller's markers
+    def _on_markers(self, msg: MarkerArray) -> None:
+        """Draw the controller's ``~/markers`` (CoM, support polygon, contact forces)."""
+        for m in msg.markers:
+            name = f'{m.ns}/{m.id}'
+            try:
+                if m.action == Marker.DELETEALL:
+                    for n in self.page.marker_names():
+                        self.page.remove_marker(n)
+                elif m.action == Marker.DELETE:
+                    self.page.remove_marker(name)
+                else:
+                    self._draw_marker(name, m)
+            except (ValueError, KeyError) as exc:
+                self.say('warning', f'marker:{name}', f"marker '{name}' not shown: {exc}")
+
+    def _draw_marker(self, name: str, m: Marker) -> None:
+        frame = m.header.frame_id
+        world = np.eye(4) if frame in ('', 'world') else self._world_from(frame)
+        T = world @ pose_to_matrix(m.pose)
+        pts = np.array([[p.x, p.y, p.z] for p in m.points], dtype=float).reshape(-1, 3)
+        pts = pts @ T[:3, :3].T + T[:3, 3]
+        rgba = (m.color.r, m.color.g, m.color.b, m.color.a)
+        if m.type == Marker.SPHERE:
+            self.page.set_marker_sphere(name, T[:3, 3], 0.5 * m.scale.x, rgba)
+        elif m.type == Marker.LINE_STRIP and len(pts) >= 2:
+            self.page.set_marker_line(name, pts, m.scale.x, rgba)
+        elif m.type == Marker.ARROW:
+            if len(pts) == 2:  # start and end; scale: shaft and head diameters
+                start, end = pts
+                shaft, head = m.scale.x, m.scale.y
+            else:  # along the pose's x axis: scale = length, shaft, head
+                start, end = T[:3, 3], T[:3, 3] + m.scale.x * T[:3, 0]
+                shaft, head = m.scale.y, m.scale.z
+            self.page.set_marker_arrow(name, start, end, shaft, head, rgba)
+        else:
+            raise ValueError(f'type {m.type} with {len(pts)} points is not drawn '
+                             '(SPHERE, LINE_STRIP, ARROW are)')
 
     def _world_from(self, frame: str) -> np.ndarray:
         """World pose of a frame of the model ('' or unknown model: the identity)."""

@@ -57,6 +57,7 @@ class Page:
         self._obstacles: dict = {}  # name -> (shape, size, mesh handle)
         self._controls: dict = {}  # task name -> (active checkbox, error text)
         self._solve_plot = None  # the solve times' uPlot chart, made at the first report
+        self._markers: dict = {}  # name -> (kind, handle): the controller's ~/markers
         self.server.scene.add_grid('/grid', width=2.0, height=2.0, cell_size=0.1)
 
     @property
@@ -191,6 +192,57 @@ class Page:
         old = self._obstacles.pop(name, None)
         if old is not None:
             old[2].remove()
+
+    def set_marker_sphere(self, name: str, centre, radius: float, rgba) -> None:
+        """Show a ball (a marker's SPHERE: the CoM) at a world point."""
+        handle = self._marker_handle(name, ('sphere', float(radius)), lambda: (
+            self.server.scene.add_mesh_simple(
+                f'/markers/{name}', *shapes.sphere(radius), color=_rgb(rgba), side='double')
+        ))
+        handle.position = tuple(float(c) for c in centre)
+
+    def set_marker_line(self, name: str, points, width: float, rgba) -> None:
+        """Show a polyline (a marker's LINE_STRIP: the support polygon) through world points."""
+        pts = np.asarray(points, dtype=float)
+        segments = np.stack((pts[:-1], pts[1:]), axis=1)
+        handle = self._marker_handle(name, ('line', len(segments)), lambda: (
+            self.server.scene.add_line_segments(
+                f'/markers/{name}', segments, _rgb(rgba), thickness=max(float(width), 1e-3))
+        ))
+        handle.points = segments
+
+    def set_marker_arrow(self, name: str, start, end, shaft: float, head: float, rgba) -> None:
+        """Show an arrow (a marker's ARROW: a contact force) from ``start`` to ``end`` (world)."""
+        start, end = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
+        verts, faces = shapes.arrow(np.linalg.norm(end - start), 0.5 * shaft, 0.5 * head,
+                                    1.5 * head)
+        handle = self._marker_handle(name, ('arrow',), lambda: (
+            self.server.scene.add_mesh_simple(
+                f'/markers/{name}', verts, faces, color=_rgb(rgba), side='double')
+        ))
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = shapes.z_onto(end - start), start
+        with self.server.atomic():
+            handle.vertices = verts
+            handle.position, handle.wxyz = to_position_wxyz(T)
+
+    def _marker_handle(self, name: str, key: tuple, make):
+        old = self._markers.get(name)
+        if old is not None and old[0] == key:
+            return old[1]
+        if old is not None:
+            old[1].remove()
+        handle = make()
+        self._markers[name] = (key, handle)
+        return handle
+
+    def remove_marker(self, name: str) -> None:
+        old = self._markers.pop(name, None)
+        if old is not None:
+            old[1].remove()
+
+    def marker_names(self) -> list:
+        return list(self._markers)
 
     def clients(self) -> int:
         return len(self.server.get_clients())

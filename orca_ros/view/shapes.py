@@ -77,3 +77,40 @@ def sphere(radius: float, rings: int = 12, segments: int = 24, stretch: float = 
     last = 1 + (rings - 2) * segments
     faces.append(np.column_stack((np.full(segments, len(verts) - 1), last + i, last + j)))
     return np.asarray(verts, dtype=float), np.vstack(faces)
+
+
+def arrow(length: float, shaft_radius: float, head_radius: float, head_length: float,
+          segments: int = 16):
+    """
+    Arrow along +z from the origin to ``length``: a shaft and a cone for its head.
+
+    The head is at most half the arrow (short arrows keep their proportions).
+    """
+    length = max(float(length), 1e-6)
+    head = min(head_length, 0.5 * length)
+    shaft_v, shaft_f = cylinder(shaft_radius, length - head, segments)
+    shaft_v = shaft_v + [0.0, 0.0, 0.5 * (length - head)]
+    a = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
+    ring = np.column_stack((head_radius * np.cos(a), head_radius * np.sin(a),
+                            np.full(segments, length - head)))
+    cone_v = np.vstack((ring, [[0.0, 0.0, length - head], [0.0, 0.0, length]]))
+    i = np.arange(segments)
+    j = (i + 1) % segments
+    base, tip = segments, segments + 1
+    cone_f = np.vstack((np.column_stack((i, j, np.full(segments, tip))),
+                        np.column_stack((np.full(segments, base), j, i))))
+    return np.vstack((shaft_v, cone_v)), np.vstack((shaft_f, cone_f + len(shaft_v)))
+
+
+def z_onto(direction) -> np.ndarray:
+    """Rotation (3x3) taking +z onto ``direction`` (the identity for a zero one)."""
+    d = np.asarray(direction, dtype=float)
+    n = np.linalg.norm(d)
+    if n < 1e-12:
+        return np.eye(3)
+    d = d / n
+    v, c = np.cross([0.0, 0.0, 1.0], d), d[2]
+    if np.linalg.norm(v) < 1e-12:
+        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
+    k = np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    return np.eye(3) + k + k @ k / (1.0 + c)
