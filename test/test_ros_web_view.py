@@ -406,6 +406,21 @@ def test_the_active_checkbox_toggles_the_task_and_the_error_is_shown(run):
           f"-> {','.join(active())}")
 
 
+def _click(driver, xpath, tries=5):
+    """Click the element at xpath (found again if the page re-rendered it meanwhile)."""
+    from selenium.common.exceptions import StaleElementReferenceException
+    from selenium.webdriver.common.by import By
+
+    for k in range(tries):
+        try:
+            driver.find_element(By.XPATH, xpath).click()
+            return
+        except StaleElementReferenceException:
+            if k == tries - 1:
+                raise
+            time.sleep(0.2)
+
+
 def test_the_solve_time_plot_shows_what_the_diagnostics_carried(run):
     import re
 
@@ -424,13 +439,16 @@ def test_the_solve_time_plot_shows_what_the_diagnostics_carried(run):
     probe.node.create_subscription(DiagnosticArray, '/diagnostics', record, 10)
 
     def shown():
-        titles = [e.text for e in driver.find_elements(By.CSS_SELECTOR, '.u-title')]
+        # read in the page (the chart re-renders at each report: no element held across it)
+        titles = driver.execute_script(
+            'return Array.from(document.querySelectorAll(".u-title"), e => e.textContent);'
+        )
         m = [re.fullmatch(r'solve time \[us\]: median ([\d.]+), p99 ([\d.]+)', t) for t in titles]
         return [(float(x.group(1)), float(x.group(2))) for x in m if x]
 
     folder = "//*[normalize-space(text())='solve time']"
     tab.wait(lambda: driver.find_elements(By.XPATH, folder), 20, "the plot's folder")
-    driver.find_element(By.XPATH, folder).click()  # folded at first
+    _click(driver, folder)  # folded at first
     # the page's newest values are those of a report the probe saw too (both get every one)
     tab.wait(lambda: any(p in seen for p in shown()), 20, 'the solve times of a report plotted')
     median, p99 = [p for p in shown() if p in seen][0]
@@ -439,7 +457,7 @@ def test_the_solve_time_plot_shows_what_the_diagnostics_carried(run):
         ' return c ? c.getBoundingClientRect().width : 0;'
     )
     tab.shot(run['out'] / 'solve_time.png')
-    driver.find_element(By.XPATH, folder).click()
+    _click(driver, folder)
     assert width > 100 and 0.0 < median <= p99
     print(f'solve time plot: median {median} us, p99 {p99} us as in /diagnostics '
           f'({len(seen)} reports seen)')
@@ -492,6 +510,51 @@ def probe_point(p):
     from geometry_msgs.msg import Point
 
     return Point(x=float(p[0]), y=float(p[1]), z=float(p[2]))
+
+
+def test_an_obstacle_dragged_on_the_page_is_sent_moved(run):
+    """A drag of an obstacle's gizmo sends its marker, moved along the gizmo's axis."""
+    from visualization_msgs.msg import Marker, MarkerArray
+
+    tab, probe = run['tab'], run['probe']
+    topic = '/orca_controller/obstacles'
+    sent = []
+    probe.node.create_subscription(MarkerArray, topic, lambda m: sent.extend(m.markers), 10)
+    pub = probe.node.create_publisher(MarkerArray, topic, 10)
+    probe.wait_for(lambda: pub.get_subscription_count() > 0
+                   and probe.node.count_publishers(topic) > 1, 10, "the page's publisher")
+    p0 = np.array([-0.25, -0.45, 0.1])
+    ball = Marker(action=Marker.ADD, type=Marker.SPHERE, ns='drag', id=3)
+    ball.header.frame_id = 'world'
+    ball.pose.position = probe_point(p0)
+    ball.pose.orientation.w = 1.0
+    ball.scale.x = ball.scale.y = ball.scale.z = 0.16
+    before = tab.shot()
+    xy = tab.project(p0)
+    tab.wait(lambda: pub.publish(MarkerArray(markers=[ball]))
+             or np.abs(_patch(tab.shot(), xy) - _patch(before, xy)).mean() > 40, 20,
+             'the ball on the page')
+    time.sleep(0.5)  # the gizmo drawn with it
+    n = len(sent)
+    # the gizmo's axis arrow that looks longest on the screen (scale 0.16), dragged along itself
+    ends = [tab.project(p0 + 0.85 * 0.16 * np.eye(3)[i]) for i in range(3)]
+    i = int(np.argmax([np.linalg.norm(e - xy) for e in ends]))
+    on_screen = (ends[i] - xy) / np.linalg.norm(ends[i] - xy)
+    tab.drag(ends[i], ends[i] + 30.0 * on_screen)
+    probe.wait_for(lambda: len(sent) > n, 10, 'the moved obstacle from the page')
+    time.sleep(0.5)  # the drag's end: its last marker
+    last = sent[-1]
+    p = np.array([last.pose.position.x, last.pose.position.y, last.pose.position.z])
+    along = (p - p0)[i]
+    across = np.linalg.norm(np.delete(p - p0, i))
+    tab.shot(run['out'] / 'obstacle_dragged.png')
+    pub.publish(MarkerArray(markers=[Marker(action=Marker.DELETE, ns='drag', id=3)]))
+    print(f'obstacle drag: {len(sent) - n} markers sent; the last {along * 1e3:.1f} mm along '
+          f'{"xyz"[i]}, {across * 1e3:.3f} mm across')
+    assert (last.ns, last.id, last.type, last.action) == ('drag', 3, Marker.SPHERE, Marker.ADD)
+    assert last.header.frame_id == 'world' and last.scale.x == 0.16
+    assert 0.01 < along < 0.25 and across < 1e-3
+    assert 'Traceback' not in run['procs'].log('web_view')
 
 
 def test_without_viser_one_line(tmp_path):

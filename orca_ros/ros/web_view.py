@@ -24,13 +24,14 @@ controller's own checks (frames, reach, smoothing) apply to it as to any other s
 sent by anyone else moves the gizmo. The page's panel has, per task, an ``active`` checkbox
 (calls the task's ``set_active``; shows the ``active_tasks`` of the controller's diagnostics) and
 its error (``~/tasks/<name>/error``, position and orientation), and a live plot of the solve times
-the controller's diagnostics report (median and 99th percentile, :mod:`..view.solve_times`). The
-obstacles sent to the
-controller's ``~/obstacles`` (visualization_msgs/MarkerArray: SPHERE, CUBE, CYLINDER in the world,
-the base frame or on a link; read as the controller reads them, :mod:`.obstacle_markers`) are
-shown as blue shapes. The controller's ``~/markers`` (robots with contacts: the CoM, the support
-polygon, the contact forces as arrows, :mod:`.controller_markers`; SPHERE, LINE_STRIP and ARROW
-markers in their colours) are drawn as they come.
+the controller's diagnostics report (median and 99th percentile, :mod:`..view.solve_times`).
+The obstacles sent to the controller's ``~/obstacles`` (visualization_msgs/MarkerArray: SPHERE,
+CUBE, CYLINDER in the world, the base frame or on a link; read as the controller reads them,
+:mod:`.obstacle_markers`) are shown as blue shapes, each on a gizmo: dragging it sends the marker
+moved (in its own frame) to ``~/obstacles``, where the controller reads it as any other. The
+controller's ``~/markers`` (robots with contacts: the CoM, the support polygon, the contact forces
+as arrows, :mod:`.controller_markers`; SPHERE, LINE_STRIP and ARROW markers in their colours) are
+drawn as they come.
 
 Parameters: ``host`` (127.0.0.1), ``port`` (8080; the next free one when taken), ``controller``
 (``/orca_controller``), ``rate`` (30 Hz, scene updates), ``floating_base`` (false),
@@ -41,6 +42,7 @@ degrees), ``urdf_path`` (empty: the topic).
 
 from __future__ import annotations
 
+import copy
 import re
 import sys
 import threading
@@ -121,6 +123,11 @@ class WebView(GuardedNode):
         self.create_subscription(
             MarkerArray, f'{self.ns}/obstacles', self._on_obstacles, DEFAULT_QOS
         )
+        self._obstacle_pub = self.create_publisher(
+            MarkerArray, f'{self.ns}/obstacles', DEFAULT_QOS
+        )
+        self._obstacle_msgs: dict = {}  # name -> the last ADD marker (a drag sends it moved)
+        self._obstacle_sent: dict = {}  # name -> when a drag last sent it
         self.create_subscription(
             MarkerArray, f'{self.ns}/markers', self._on_markers, DEFAULT_QOS
         )
@@ -172,7 +179,8 @@ class WebView(GuardedNode):
         self.page.place_robot(poses)
         for name, (shape, size, pose, frame) in list(self._obstacles.items()):
             if frame is not None:  # on a link (or the base): moves with it
-                self.page.set_obstacle(name, shape, size, self._world_from(frame) @ pose)
+                self.page.set_obstacle(name, shape, size, self._world_from(frame) @ pose,
+                                       self._on_obstacle_drag)
 
     # ------------------------------------------------------------------ obstacles
     def _on_obstacles(self, msg: MarkerArray) -> None:
@@ -189,7 +197,8 @@ class WebView(GuardedNode):
                 shape, size, pose, frame = marker_obstacle(m, base)
                 world = self._world_from(frame) @ pose if frame else pose
                 self._obstacles[name] = (shape, size, pose, frame)
-                self.page.set_obstacle(name, shape, size, world)
+                self._obstacle_msgs[name] = m
+                self.page.set_obstacle(name, shape, size, world, self._on_obstacle_drag)
             except (ValueError, KeyError) as exc:
                 self.say('warning', f'obstacle:{name}',
                          f"obstacle marker '{name}' not shown: {exc}")
@@ -232,6 +241,26 @@ class WebView(GuardedNode):
         else:
             raise ValueError(f'type {m.type} with {len(pts)} points is not drawn '
                              '(SPHERE, LINE_STRIP, ARROW are)')
+
+    def _on_obstacle_drag(self, name: str, phase: str, world_pose: np.ndarray) -> None:
+        """Send a drag of an obstacle (viser's thread) as its marker moved, to ``~/obstacles``."""
+        now = time.monotonic()
+        m, held = self._obstacle_msgs.get(name), self._obstacles.get(name)
+        if m is None or held is None or phase == 'start' or (
+            phase != 'end' and now - self._obstacle_sent.get(name, -1.0) < self.book.min_period
+        ):
+            return
+        self._obstacle_sent[name] = now
+        try:
+            local = np.linalg.solve(self._world_from(held[3]), world_pose)
+        except ValueError as exc:  # its link gone with a new robot description
+            self.say('warning', f'obstacle:{name}', f"obstacle '{name}' not sent: {exc}")
+            return
+        moved = copy.deepcopy(m)
+        moved.action = Marker.ADD
+        moved.header.stamp = self.get_clock().now().to_msg()
+        matrix_to_pose(local, moved.pose)
+        self._obstacle_pub.publish(MarkerArray(markers=[moved]))
 
     def _world_from(self, frame: str) -> np.ndarray:
         """World pose of a frame of the model ('' or unknown model: the identity)."""

@@ -54,7 +54,8 @@ class Page:
         self.gizmo_scale = float(gizmo_scale)
         self._meshes: list = []
         self._tasks: dict = {}  # name -> (gizmo handle, current-pose frame handle)
-        self._obstacles: dict = {}  # name -> (shape, size, mesh handle)
+        self._obstacles: dict = {}  # name -> (shape, size, mesh handle, gizmo handle)
+        self._dragging: set = set()  # obstacles a tab drags now
         self._controls: dict = {}  # task name -> (active checkbox, error text)
         self._solve_plot = None  # the solve times' uPlot chart, made at the first report
         self._markers: dict = {}  # name -> (kind, handle): the controller's ~/markers
@@ -169,29 +170,55 @@ class Page:
     def set_target(self, name: str, pose: np.ndarray) -> None:
         self._tasks[name][0].position, self._tasks[name][0].wxyz = to_position_wxyz(pose)
 
-    def set_obstacle(self, name: str, shape: str, size, pose: np.ndarray) -> None:
-        """Show an obstacle (sphere [r], box [x, y, z], cylinder [r, length]) at a world pose."""
+    def set_obstacle(self, name: str, shape: str, size, pose: np.ndarray, on_drag=None) -> None:
+        """
+        Show an obstacle (sphere [r], box [x, y, z], cylinder [r, length]) at a world pose.
+
+        The shape hangs from a gizmo (moves only: arrows and planes); ``on_drag(name, phase,
+        world_pose)`` is called for each drag event of any tab. While a tab drags it, poses
+        given here are not shown (the hand on the page wins until it lets go).
+        """
         old = self._obstacles.get(name)
-        if old is None or old[:2] != (shape, list(size)):
-            if old is not None:
+        if old is None:
+            controls = self.server.scene.add_transform_controls(
+                f'/obstacles/{name}', scale=max(0.1, 2.0 * float(max(size))),
+                disable_rotations=True, depth_test=False,
+            )
+
+            def moved(event):
+                h = event.target
+                if event.phase == 'start':
+                    self._dragging.add(name)
+                elif event.phase == 'end':
+                    self._dragging.discard(name)
+                if on_drag is not None:
+                    on_drag(name, event.phase, to_matrix(h.position, h.wxyz))
+
+            controls.on_update(moved)
+            old = (None, None, None, controls)
+        if old[:2] != (shape, list(size)):
+            if old[2] is not None:
                 old[2].remove()
             verts, faces = {
                 'sphere': lambda: shapes.sphere(size[0]),
                 'box': lambda: shapes.box(size),
                 'cylinder': lambda: shapes.cylinder(size[0], size[1]),
             }[shape]()
-            handle = self.server.scene.add_mesh_simple(
-                f'/obstacles/{name}', verts, faces, color=OBSTACLE_COLOR, opacity=0.6,
+            mesh = self.server.scene.add_mesh_simple(
+                f'/obstacles/{name}/shape', verts, faces, color=OBSTACLE_COLOR, opacity=0.6,
                 side='double',
             )
-            self._obstacles[name] = (shape, list(size), handle)
-        handle = self._obstacles[name][2]
-        handle.position, handle.wxyz = to_position_wxyz(pose)
+            old = (shape, list(size), mesh, old[3])
+        self._obstacles[name] = old
+        if name not in self._dragging:
+            old[3].position, old[3].wxyz = to_position_wxyz(pose)
 
     def remove_obstacle(self, name: str) -> None:
         old = self._obstacles.pop(name, None)
+        self._dragging.discard(name)
         if old is not None:
             old[2].remove()
+            old[3].remove()
 
     def set_marker_sphere(self, name: str, centre, radius: float, rgba) -> None:
         """Show a ball (a marker's SPHERE: the CoM) at a world point."""
