@@ -122,6 +122,8 @@ SCHEMA: tuple[ParamSpec, ...] = (
     ParamSpec(
         'feedback_rate', _F, False, 'per-task pose/error feedback [Hz], 0 = off', 0.0, 1000.0
     ),
+    ParamSpec('markers', _B, False, '~/markers: CoM, support polygon, contact forces'),
+    ParamSpec('marker_force_scale', _F, False, 'contact force arrows [m/N]', 0.0, 1.0),
     ParamSpec('manage_gc', _B, False, 'keep the garbage collector out of the cycle'),
     ParamSpec('gc_period', _F, False, 'young-generation collection period [s]', 0.01, 3600.0),
     ParamSpec('tasks.<task>.type', 'str', False, 'task type'),
