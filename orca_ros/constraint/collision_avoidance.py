@@ -50,6 +50,8 @@ from .viable_bound import ViableBound
 from ..robot.collision_geometry import CollisionGeometry, make_shape
 
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+#: the longest an obstacle's pose is carried on along its velocity [s]
+EXTRAPOLATION = 0.1
 
 
 def _skew(r):
@@ -83,6 +85,7 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         self.horizon = float(horizon)
         self.geometry: CollisionGeometry | None = None
         self._pending: dict = {}  # obstacles added before the robot is known
+        self._moving: dict = {}  # name -> (pose, velocity, time of the pose): moved each cycle
         self.last_pairs: list[tuple[str, str, float]] = []  # (body, body, distance), closest first
 
     # ------------------------------------------------------------------ obstacles
@@ -94,8 +97,18 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         else:
             self.geometry.add_obstacle(name, shape, size, pose, frame)
 
-    def move_obstacle(self, name: str, pose, frame=None, velocity=None) -> None:
-        """Move an obstacle; ``velocity``: its linear velocity (world), when it moves on."""
+    def move_obstacle(self, name: str, pose, frame=None, velocity=None, at=None) -> None:
+        """
+        Move an obstacle; ``velocity``: its linear velocity (world), when it moves on.
+
+        ``at``: the time [s, the controller's clock] of ``pose``, for an obstacle in the world
+        with a velocity: each cycle then places it where it has moved since (at most
+        ``EXTRAPOLATION`` s on), so that a late or sparse pose (a topic on a busy machine) is not
+        taken for the obstacle's position now.
+        """
+        self._moving.pop(name, None)
+        if at is not None and velocity is not None and frame is None:
+            self._moving[name] = (np.array(pose, dtype=float), np.asarray(velocity, float), at)
         if self.geometry is None:
             shape, size, _, _ = self._pending[name]
             self._pending[name] = (shape, size, pose, frame)
@@ -103,6 +116,7 @@ class CollisionAvoidanceConstraint(GenericConstraint):
             self.geometry.move_obstacle(name, pose, frame, velocity)
 
     def remove_obstacle(self, name: str) -> None:
+        self._moving.pop(name, None)
         if self.geometry is None:
             del self._pending[name]
         else:
@@ -154,6 +168,10 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         robot = self.robot
         robot._update_terms()  # the joints' placements, Jacobians and drifts of this state
         geom = self.geometry
+        for name, (pose, velocity, at) in self._moving.items():
+            moved = pose.copy()
+            moved[:3, 3] += velocity * min(max(current_time - at, 0.0), EXTRAPOLATION)
+            geom.move_obstacle(name, moved, None, velocity)
         h, A = self.horizon, self.max_deceleration
         pairs = geom.closest(robot.data, self.influence_distance,
                              lambda s: h * s + s * s / (2.0 * A))

@@ -110,9 +110,12 @@ class ObstacleMarkers:
                 velocity = (pose[:3, 3] - seen[1]) / (now - seen[0])
             elif now == seen[0]:
                 velocity = seen[2]  # another pose of the same instant: the same velocity
+        # the pose's time on the controller's clock: its stamp in lockstep (the simulated time
+        # the states carry), its receipt otherwise; the constraint carries it on from there
+        at = now if (stamped and self.trigger == 'joint_state') or not stamped else None
         for c in self._collision:
             if self._marker_specs.get(name) == spec:
-                c.move_obstacle(name, pose, frame, velocity)
+                c.move_obstacle(name, pose, frame, velocity, at)
             else:
                 c.add_obstacle(name, shape, size, pose, frame)
         self._marker_specs[name] = spec
