@@ -119,6 +119,24 @@ class _Log:
     def info(self, text):
         self.lines.append(('info', text))
 
+    def warning(self, text):
+        self.lines.append(('warning', text))
+
+
+def test_throttled_log_says_when_a_cause_is_due_without_counting():
+    """due() answers whether a line would print now; asking holds nothing back, counts nothing."""
+    now = [0.0]
+    log = _Log()
+    say = ThrottledLog(log, period=1.0, clock=lambda: now[0])
+    assert say.due('a')
+    say('warning', 'a', 'first')
+    now[0] = 0.5
+    assert not say.due('a') and say.due('b')
+    now[0] = 1.0
+    assert say.due('a')
+    say('warning', 'a', 'second')
+    assert log.lines[-1] == ('warning', 'second')  # no 'more like it': due() counted nothing
+
 
 def test_throttled_log_one_line_per_cause_per_period():
     now = [0.0]

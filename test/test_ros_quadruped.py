@@ -127,7 +127,8 @@ def test_stale_odom_gives_the_safe_command(tmp_path):
     Switch to the safe command when odom stops.
 
     A floating-base controller whose odom stops (joint states still coming) switches to the safe
-    command and says why; the commands stay finite.
+    command and says why, also right after another spell of stale input; the commands stay
+    finite.
     """
     from nav_msgs.msg import Odometry
     from sensor_msgs.msg import JointState
@@ -176,6 +177,10 @@ def test_stale_odom_gives_the_safe_command(tmp_path):
             publish(True)
             time.sleep(0.005)
         assert len(probe.commands) >= 100, 'the controller never answered'
+        # both silent: the joint states' spell first (checked first), then the joint states back
+        # without odom: a second spell of the same cause less than the log's throttle period
+        # (1 s) after the first one's line, which must still be said (it was lost once)
+        procs.wait_log('controller', 'safe command: joint_states stale', 30)
         t_end = time.time() + 60
         while 'odom stale' not in procs.log('controller') and time.time() < t_end:
             publish(False)

@@ -144,8 +144,8 @@ class OrcaControllerNode(
         self._last_cmd = np.zeros(self.n)  # model order
         self._enabled = True
         self._t_prev = None
-        self._safe_reason = None
-        self._safe_cause = None
+        self._safe_reason = self._safe_cause = None
+        self._safe_said = False  # the current safe spell's line is in the log
         self.qp_failures = 0
         self.commands_sent = 0  # every command published (solved, safe or hold)
         self.contacts_relaxed_cycles = 0  # cycles solved with elastic contacts (see optim/)
@@ -361,13 +361,12 @@ class OrcaControllerNode(
         self, t: float, cause: str, reason: str, fresh: bool = True, level: str = 'warning'
     ) -> None:
         if reason != self._safe_reason:
-            self.say(
-                level,
-                cause,
-                f'safe command: {reason}' if level != 'info' else f'holding: {reason}',
+            self._safe_reason, self._safe_cause, self._safe_said = reason, cause, False
+        if not self._safe_said and self.say.due(cause):  # a line the throttle would hold back
+            # (its cause said < 1 s ago) goes out once it may: no safe spell goes unnamed
+            self._safe_said = self.say(
+                level, cause, f'safe command: {reason}' if level != 'info' else f'holding: {reason}'
             )
-            self._safe_reason = reason
-            self._safe_cause = cause
         cmd = self.safe.compute(
             t if fresh else time.monotonic(), self._last_cmd, self._q, self._v if fresh else None
         )

@@ -61,6 +61,11 @@ class ThrottledLog:
             self._logger.debug(text)
         return True
 
+    def due(self, cause: str) -> bool:
+        """Whether a line of ``cause`` would be printed now (nothing is counted or logged)."""
+        last = self._last.get(cause)
+        return last is None or self._clock() - last >= self.period
+
     def forget(self, cause: str) -> None:
         """Let the next line of ``cause`` through at once (e.g. after the condition cleared)."""
         self._last.pop(cause, None)
