@@ -270,38 +270,50 @@ def _recorder(probe):
     return got
 
 
-def test_a_drag_of_the_gizmo_moves_the_arm_and_the_current_pose_follows(run):
+def _drag_ee_gizmo(run):
+    """
+    Drag the end effector's gizmo along its axis arrow that looks longest, towards the arm's base.
+
+    The arm at rest on its target (the gizmo where the end effector is). Returns the drag's last
+    target (4x4, base frame = world) and the current pose marker's centre before the drag.
+    """
     tab, probe = run['tab'], run['probe']
     from orca_ros.ros.common import pose_to_matrix
 
     targets = run['targets']
-    probe.wait_for(lambda: probe.node.count_publishers('/orca_controller/tasks/ee/target_pose'),
-                   10, "the page's publisher")
+    n = len(targets)
     start = probe.ee_pose()
     p0 = start[:3, 3]
     before = _magenta_centre(tab.shot())
     assert before is not None and np.linalg.norm(before - tab.project(p0)) < 20, before
-    # the gizmo's axis arrow that looks longest on the screen, dragged along itself towards the
-    # arm's base (inwards: reachable)
     ends = [tab.project(p0 + 0.85 * GIZMO * start[:3, i]) for i in range(3)]
     i = int(np.argmax([np.linalg.norm(e - tab.project(p0)) for e in ends]))
     axis = start[:3, i]
     on_screen = (ends[i] - tab.project(p0)) / np.linalg.norm(ends[i] - tab.project(p0))
-    sign = 1.0 if axis @ -np.array([p0[0], p0[1], 0.0]) > 0 else -1.0
+    sign = 1.0 if axis @ -np.array([p0[0], p0[1], 0.0]) > 0 else -1.0  # inwards: reachable
     tab.drag(ends[i], ends[i] + sign * 30.0 * on_screen)
-    probe.wait_for(lambda: targets, 10, 'a target from the page')
-    assert all(t.header.frame_id == 'base_link' for t in targets)  # all from the page
+    probe.wait_for(lambda: len(targets) > n, 10, 'a target from the page')
+    assert all(t.header.frame_id == 'base_link' for t in targets[n:])  # all from the page
     time.sleep(0.5)  # the drag's end: its last target
     last = targets[-1]
     goal = pose_to_matrix(last.pose)
     moved = goal[:3, 3] - p0
     along = moved @ axis
-    print(f'{len(targets)} targets from the drag; the last {along * 1e3:.1f} mm along the '
+    print(f'{len(targets) - n} targets from the drag; the last {along * 1e3:.1f} mm along the '
           f'gizmo axis {"xyz"[i]}, {np.linalg.norm(moved - along * axis) * 1e3:.3f} mm across')
     assert last.header.frame_id == 'base_link'
     assert 0.03 < sign * along < 0.25, moved
     assert np.linalg.norm(moved - along * axis) < 1e-3
     assert np.abs(goal[:3, :3] - start[:3, :3]).max() < 1e-3  # an axis drag keeps the orientation
+    return goal, before
+
+
+def test_a_drag_of_the_gizmo_moves_the_arm_and_the_current_pose_follows(run):
+    tab, probe = run['tab'], run['probe']
+    probe.wait_for(lambda: probe.node.count_publishers('/orca_controller/tasks/ee/target_pose'),
+                   10, "the page's publisher")
+    p0 = probe.ee_pose()[:3, 3]
+    goal, before = _drag_ee_gizmo(run)
     probe.wait_for(lambda: _reached(probe, goal), 60, 'the arm within 1 mm of the target')
     t_in = probe.sim_time()
     probe.wait_sim(0.3)
@@ -392,7 +404,10 @@ def test_the_active_checkbox_toggles_the_task_and_the_error_is_shown(run):
     tab.wait(lambda: re.fullmatch(r'\d+\.\d\d mm, \d+\.\d\d deg',
                                   error.get_attribute('value')), 10, 'the error shown')
     shown = error.get_attribute('value')
-    assert checkbox.is_selected() and 'ee' in active()
+    # the box shows the diagnostics' active tasks (5 Hz), which the page may not have had yet
+    # since the last test's reload
+    tab.wait(lambda: checkbox.is_selected() and 'ee' in active(), 20,
+             'the box checked, as the diagnostics say')
     clicked = time.time()
     box()[0].click()
     probe.wait_for(lambda: 'ee' not in active(), 20, "the controller's ee task inactive")
@@ -473,7 +488,7 @@ def test_the_controller_markers_are_drawn_and_deleted(run):
     com = np.array([-0.2, -0.4, 0.1])
     foot, top = np.array([0.05, -0.5, 0.0]), np.array([0.05, -0.5, 0.3])
     where = {'com': tab.project(com), 'arrow': tab.project(0.5 * (foot + top))}
-    before = tab.shot()
+    before = tab.shot(run['out'] / 'markers_before.png')
 
     def marker(ns, kind, action=Marker.ADD):
         m = Marker(ns=ns, id=0, type=kind, action=action)
@@ -555,6 +570,56 @@ def test_an_obstacle_dragged_on_the_page_is_sent_moved(run):
     assert last.header.frame_id == 'world' and last.scale.x == 0.16
     assert 0.01 < along < 0.25 and across < 1e-3
     assert 'Traceback' not in run['procs'].log('web_view')
+
+
+def test_the_page_goes_on_across_a_controller_restart_and_a_new_description(run):
+    """
+    The controller stopped and started again mid-run: the page's gizmo drives the new one; a new
+    robot description (the arm's orange links made green) replaces the robot on the page.
+    """
+    procs, probe, tab = run['procs'], run['probe'], run['tab']
+    old = next(p for p, _, name in procs.procs if name == 'controller')
+    at = probe.ee_pose()
+    old.terminate()
+    old.wait(timeout=30)
+    t_stop = probe.sim_time()
+    procs.start_arm_controller('lockstep', name='controller_restarted')
+    probe.wait_for(lambda: probe.sim_time() > t_stop + 1.0, 90, 'the restarted controller cycling')
+    held = np.linalg.norm(probe.ee_pose()[:3, 3] - at[:3, 3])
+    goal, _ = _drag_ee_gizmo(run)
+    probe.wait_for(lambda: _reached(probe, goal), 60, 'the arm at the target dragged after '
+                   'the restart')
+    for name in ('web_view', 'controller_restarted', 'bridge'):
+        assert 'Traceback' not in procs.log(name), procs.log(name)[-2000:]
+    print(f'controller restarted: the arm {held * 1e3:.3f} mm from where it was, then at the '
+          'target dragged on the page (< 1 mm)')
+    assert held < 5e-3
+
+    import orca_ros as orca
+    from orca_ros.ros.common import DESCRIPTION_QOS
+    from std_msgs.msg import String
+
+    # the shipped arm's URDF with its orange links green
+    with open(orca.default_urdf_path()) as fh:
+        green = fh.read().replace('rgba="1.0 0.45 0.0 1.0"', 'rgba="0.0 1.0 0.0 1.0"')
+    assert 'rgba="0.0 1.0 0.0 1.0"' in green
+    probe.robot.set_robot_state(probe.last_state()[1], np.zeros(7))
+    link = probe.robot.get_frame_pose('link_1')  # an orange link
+    xy = tab.project(link[:3, 3] + link[:3, :3] @ [0.0, 0.0, 0.1])
+
+    def greenish():
+        patch = _patch(tab.shot(), xy, 3)
+        return (patch[..., 1] - np.maximum(patch[..., 0], patch[..., 2])).mean()
+
+    before = greenish()
+    pub = probe.node.create_publisher(String, '/robot_description', DESCRIPTION_QOS)
+    pub.publish(String(data=green))
+    tab.wait(lambda: greenish() > 60, 30, 'the green link on the page')
+    tab.shot(run['out'] / 'new_description.png')
+    assert procs.log('web_view').count('robot: 8 visuals') == 2  # loaded once more
+    print(f'new description: green over red and blue {before:.0f} -> {greenish():.0f} where '
+          'link_1 is')
+    assert before < 0 and 'Traceback' not in procs.log('web_view')
 
 
 def test_without_viser_one_line(tmp_path):

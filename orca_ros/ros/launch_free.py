@@ -103,11 +103,13 @@ class Procs:
             env=env,
         )
 
-    def start_arm_controller(self, mode: str = 'lockstep', *ros_args: str, prefix=(), env=None):
+    def start_arm_controller(
+        self, mode: str = 'lockstep', *ros_args: str, prefix=(), env=None, name='controller'
+    ):
         """
         Start the controller with ``config/lwr_controller.yaml``.
 
-        One cycle per joint state in lockstep, its timer otherwise.
+        One cycle per joint state in lockstep, its timer otherwise; ``name``: its log's name.
         """
         return self.start(
             'orca_ros.ros.controller_node',
@@ -116,7 +118,7 @@ class Procs:
             '-p',
             f"trigger:={'joint_state' if mode == 'lockstep' else 'timer'}",
             *ros_args,
-            name='controller',
+            name=name,
             prefix=prefix,
             env=env,
         )
