@@ -40,27 +40,27 @@ class SafeCommand:
         lim = robot.get_joint_torque_limits()
         self.limit = np.where((lim > 0) & np.isfinite(lim), lim, np.inf)
         self._start: float | None = None
-        self._from = np.zeros(robot.get_nr_of_degrees_of_freedom())
+        n = robot.get_nr_of_degrees_of_freedom()
+        self._n, self._nb = n, robot.get_configuration_space_dimension() - n
+        self._from = np.zeros(n)
+        self._zeros = np.zeros(n)
+        self._tau = np.zeros(n)  # the hold's buffer (a spell calls it every cycle)
         self.active = False
 
     def hold(self, q: np.ndarray, v: np.ndarray | None) -> np.ndarray:
-        n = self.robot.get_nr_of_degrees_of_freedom()
-        vs = np.zeros(n) if v is None else v
-        if (
-            self.robot.is_floating_base()
-        ):  # keep the last base pose; a floating base gets no support torque
-            r = self.robot
+        r, nb = self.robot, self._nb
+        vs = self._zeros if v is None else v
+        if nb:  # keep the last base pose; a floating base gets no support torque
             r.set_robot_state(r.get_world_to_base_transform(), q, np.zeros(6), vs, r.get_gravity())
         else:
-            self.robot.set_robot_state(q, vs)
-        tau = (
-            np.zeros(n)
-            if self.gravity_by_hardware
-            else self.robot.get_joint_gravity_torques().copy()
-        )
+            r.set_robot_state(q, vs)
+        tau = self._tau
+        if self.gravity_by_hardware:
+            tau.fill(0.0)
+        else:
+            tau[:] = r.get_generalized_gravity_torques()[nb:]
         if v is not None:
-            nb = self.robot.get_configuration_space_dimension() - n
-            tau -= self.damping * (self.robot.get_mass_matrix()[nb:, nb:] @ v)
+            tau -= self.damping * (r.get_mass_matrix()[nb:, nb:] @ v)
         return np.clip(tau, -self.limit, self.limit)
 
     def compute(
@@ -73,6 +73,8 @@ class SafeCommand:
             self._from = np.array(last_command, dtype=float)
         hold = self.hold(q, v)
         a = 1.0 if self.ramp <= 0 else min(1.0, max(0.0, (t - self._start) / self.ramp))
+        if a >= 1.0:
+            return hold
         out = (1.0 - a) * self._from + a * hold
         return np.where(np.isfinite(out), out, hold)
 

@@ -129,14 +129,15 @@ def struct_in(array: np.ndarray, cls):
     return cls.from_buffer(array)
 
 
-def check(work: WorkspaceHead, problem: Problem, sense: np.ndarray) -> None:
+def check(work: WorkspaceHead, problem: Problem, sense: np.ndarray, full: bool = True) -> None:
     """
     Raise LayoutError unless the workspace DAQP set up is laid out as declared.
 
-    It must point to the problem, hold its sizes and constraint states in range, and its settings
-    must equal, field by field, those ``daqp_default_settings`` writes into a fresh structure.
+    It must point to the problem and hold its sizes; with ``full`` (a workspace's first set-up:
+    the layout is the library's, the same at every later one) also its constraint states in range
+    and its settings equal, field by field, to those ``daqp_default_settings`` writes into a fresh
+    structure.
     """
-    lib = library()
     if work.qp != C.addressof(problem):
         raise LayoutError('workspace does not point to the problem it was set up with')
     if (work.n, work.m, work.ms) != (problem.n, problem.m, problem.ms):
@@ -146,6 +147,9 @@ def check(work: WorkspaceHead, problem: Problem, sense: np.ndarray) -> None:
         )
     if problem.m and not bool(work.sense):
         raise LayoutError('workspace has no constraint states')
+    if not full:
+        return
+    lib = library()
     # the set-up rewrites the states (active, immutable, zero rows...): within DAQP's 15 bits
     states = np.ctypeslib.as_array(work.sense, shape=(problem.m,)) if problem.m else sense[:0]
     if np.any((states < 0) | (states >= 1 << 15)):

@@ -22,8 +22,11 @@ the iteration cap, and a failed solve starts the next one cold (a fresh workspac
 cycle): scaling, update, solve and the solution in physical units are one kernel call
 (:mod:`.daqp_kernel`); set-ups, rare, stay in Python (ctypes, :mod:`.daqp_c`).
 
-Every set-up checks the structures' layout against what DAQP wrote (:func:`.daqp_c.check`)
-before anything is written into the workspace; a wrong layout raises before any solve is used.
+A workspace's first set-up checks the structures' layout against what DAQP wrote
+(:func:`.daqp_c.check`) before anything is written into the workspace; a wrong layout raises
+before any solve is used. Later set-ups (after each failed solve: every cycle of a spell of
+infeasible problems) check that the workspace points to the problem and holds its sizes; the
+layout is the library's and does not change.
 DAQP's structures live in memory owned here, its workspace set up again in place after a
 failure; the settings it allocates are replaced by ours once checked (their iteration limit is
 written by the kernel), so the kernel's arrays never change.
@@ -67,6 +70,7 @@ class DirectDAQPBackend(QPBackend):
         lib.default_settings(self._sbuf.ctypes.data)
         self._work = daqp_c.struct_in(self._wbuf, daqp_c.WorkspaceHead)
         self._set_up = False
+        self._checked = False  # the workspace's layout checked in full (its first set-up)
         self._ours = [False]  # the workspace holds our settings (put there once it checked)
         self._finalizer = weakref.finalize(self, _release, lib, self._wbuf, self._ours)
         # the state's arrays (the kernel's StructRef cannot be read from Python)
@@ -86,6 +90,10 @@ class DirectDAQPBackend(QPBackend):
         }
         self._ptrs = a['ptrs']
         p = self._problem = daqp_c.struct_in(self._pbuf, daqp_c.Problem)
+        # the addresses a set-up passes (the buffers never move)
+        self._p_addr, self._w_addr = C.addressof(p), self._wbuf.ctypes.data
+        self._sense_addr = self._sense.ctypes.data
+        self._our_settings = C.cast(self._sbuf.ctypes.data, C.POINTER(daqp_c.Settings))
         p.n, p.m, p.ms = nx, nx + m, nx
         p.H, p.f = a['Hs'].ctypes.data, a['gs'].ctypes.data
         p.A = a['Ms'].ctypes.data if m else None
@@ -139,22 +147,23 @@ class DirectDAQPBackend(QPBackend):
         self.reset()
         lib, p, work = self._lib, self._problem, self._work
         K.scale(self._state)
-        p.sense = self._sense.ctypes.data
+        p.sense = self._sense_addr
         # nothing is written into the workspace before its layout is checked: DAQP allocates
         # its own settings here, checked against the defaults, then replaced by ours
-        flag = lib.setup(C.addressof(p), self._wbuf.ctypes.data, None)
+        flag = lib.setup(self._p_addr, self._w_addr, None)
         self._set_up = True  # whatever it allocated is freed by the next reset
         if flag < 0:
             self.reset()
             return flag
-        daqp_c.check(work, p, self._sense)
+        daqp_c.check(work, p, self._sense, full=not self._checked)
+        self._checked = True
         theirs = C.cast(work.settings, C.c_void_p).value
-        work.settings = C.cast(self._sbuf.ctypes.data, C.POINTER(daqp_c.Settings))
+        work.settings = self._our_settings
         self._ours[0] = True
         daqp_c.free(theirs)
         # from now on the workspace's own states: the next update keeps the active set
         p.sense = C.cast(work.sense, C.c_void_p).value
-        self._ptrs[K.WORK] = self._wbuf.ctypes.data
+        self._ptrs[K.WORK] = self._w_addr
         return 0
 
     def _run(self, mask: int, cap: int) -> ReturnCode:
@@ -241,8 +250,9 @@ def _release(lib, wbuf: np.ndarray, ours: list) -> None:
     if ours[0]:
         daqp_c.WorkspaceHead.from_buffer(wbuf).settings = None
         ours[0] = False
-    lib.free_workspace(wbuf.ctypes.data)
-    lib.free_ldp(wbuf.ctypes.data)
+    address = wbuf.ctypes.data
+    lib.free_workspace(address)
+    lib.free_ldp(address)
     wbuf[:] = 0
 
 
