@@ -42,7 +42,8 @@ from orca_ros.ros.probe import Probe
 from orca_ros.utils.schedstat import thread_schedstat
 
 TARGET = 0.6e-3  # s of CPU per cycle at 1 kHz
-FAILING = ('-p', 'constraints.torque_limit.max:=0.1', '-p', 'constraints.velocity_limit.max:=0.001')
+FAILING = ('-p', 'constraints.torque_limit.max:=0.1',
+           '-p', 'constraints.velocity_limit.max:=0.001')
 
 
 def _sample(probe, pid):
@@ -95,9 +96,10 @@ def main() -> None:
     print(f'\nmedians over {args.rounds} rounds (target: CPU <= {TARGET * 1e3:.1f} ms per cycle)')
     for scenario, rs in results.items():
         cpu = float(np.median([x['cpu'] for x in rs]))
-        print(f"  {scenario:8s}: CPU {cpu * 1e3:.3f} ms/cycle "
-              f"({'met' if cpu <= TARGET else 'NOT met'}), solve median "
-              f"{np.median([x['solve_us'] for x in rs]):.1f} us")
+        verdict = 'met' if cpu <= TARGET else 'NOT met'
+        solve = float(np.median([x['solve_us'] for x in rs]))
+        print(f'  {scenario:8s}: CPU {cpu * 1e3:.3f} ms/cycle ({verdict}), solve median '
+              f'{solve:.1f} us')
 
 
 if __name__ == '__main__':

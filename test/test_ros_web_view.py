@@ -574,6 +574,8 @@ def test_an_obstacle_dragged_on_the_page_is_sent_moved(run):
 
 def test_the_page_goes_on_across_a_controller_restart_and_a_new_description(run):
     """
+    The page survives a restarted controller and a changed robot description.
+
     The controller stopped and started again mid-run: the page's gizmo drives the new one; a new
     robot description (the arm's orange links made green) replaces the robot on the page.
     """

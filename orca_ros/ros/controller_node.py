@@ -364,9 +364,8 @@ class OrcaControllerNode(
             self._safe_reason, self._safe_cause, self._safe_said = reason, cause, False
         if not self._safe_said and self.say.due(cause):  # a line the throttle would hold back
             # (its cause said < 1 s ago) goes out once it may: no safe spell goes unnamed
-            self._safe_said = self.say(
-                level, cause, f'safe command: {reason}' if level != 'info' else f'holding: {reason}'
-            )
+            text = f'safe command: {reason}' if level != 'info' else f'holding: {reason}'
+            self._safe_said = self.say(level, cause, text)
         cmd = self.safe.compute(
             t if fresh else time.monotonic(), self._last_cmd, self._q, self._v if fresh else None
         )
