@@ -66,6 +66,12 @@ class RingBuffer:
             return default
         return float(np.quantile(self._data[: self._count], q))
 
+    def quantiles(self, qs, default: float = 0.0) -> list[float]:
+        """Return the quantiles ``qs`` (each in 0..1) of the samples held, in one partition."""
+        if self._count == 0:
+            return [default] * len(qs)
+        return [float(v) for v in np.quantile(self._data[: self._count], qs)]
+
     def mean(self, default: float = 0.0) -> float:
         return float(self._data[: self._count].mean()) if self._count else default
 
