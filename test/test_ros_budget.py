@@ -27,8 +27,9 @@ the load; the periods it loses must be ones the machine took (time its control t
 CPU, also from /proc), never ones its own work took. Measured (a 2-core machine, others'
 tests beside it): 0.38 ms of CPU per failing cycle (0.33-0.39 ms per solved cycle; OSQP, failing:
 0.72 ms), 2-26 % of the periods lost while the thread waited 1.4-2.0 s of 3.2 s for a CPU; on a
-slower 2-core machine (a pure-Python loop 2.5x slower) 0.64-0.83 ms failing, 0.55 ms solved. How
-much of the period the work takes is a speed target and lives in bench/bench_node_cpu.py.
+slower 2-core machine (a pure-Python loop 2.5x slower) 0.77 ms failing (0.64-1.08 ms before a
+failed solve's set-up got lighter), 0.60 ms solved. How much of the period the work takes is a
+speed target and lives in bench/bench_node_cpu.py.
 """
 
 import time
