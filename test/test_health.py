@@ -109,7 +109,6 @@ def test_ring_buffer_latest():
     assert rb.latest(0).size == 0
 
 
-
 def test_ring_buffer_quantiles_in_one_call_equal_them_one_by_one():
     rng = np.random.default_rng(3)
     rb = RingBuffer(1000)
@@ -118,6 +117,7 @@ def test_ring_buffer_quantiles_in_one_call_equal_them_one_by_one():
         rb.push(float(x))
     qs = (0.5, 0.99, 0.999)
     assert rb.quantiles(qs) == [rb.quantile(q) for q in qs]
+
 
 class _Log:
     def __init__(self):

@@ -299,8 +299,9 @@ def _drag_ee_gizmo(run):
     goal = pose_to_matrix(last.pose)
     moved = goal[:3, 3] - p0
     along = moved @ axis
+    name = 'xyz'[i]
     print(f'{len(targets) - n} targets from the drag; the last {along * 1e3:.1f} mm along the '
-          f'gizmo axis {"xyz"[i]}, {np.linalg.norm(moved - along * axis) * 1e3:.3f} mm across')
+          f'gizmo axis {name}, {np.linalg.norm(moved - along * axis) * 1e3:.3f} mm across')
     assert last.header.frame_id == 'base_link'
     assert 0.03 < sign * along < 0.25, moved
     assert np.linalg.norm(moved - along * axis) < 1e-3
@@ -516,8 +517,9 @@ def test_the_controller_markers_are_drawn_and_deleted(run):
     tab.shot(run['out'] / 'markers.png')
     pub.publish(MarkerArray(markers=[marker('', Marker.SPHERE, Marker.DELETEALL)]))
     tab.wait(lambda: max(differences().values()) < 2, 20, 'the markers gone')
-    print(f'controller markers: mean difference {shown["com"]:.1f} (ball), '
-          f'{shown["arrow"]:.1f} (arrow) where they are; '
+    ball_shown, arrow_shown = shown['com'], shown['arrow']
+    print(f'controller markers: mean difference {ball_shown:.1f} (ball), '
+          f'{arrow_shown:.1f} (arrow) where they are; '
           f'{max(differences().values()):.2f} after DELETEALL')
 
 
@@ -564,8 +566,9 @@ def test_an_obstacle_dragged_on_the_page_is_sent_moved(run):
     across = np.linalg.norm(np.delete(p - p0, i))
     tab.shot(run['out'] / 'obstacle_dragged.png')
     pub.publish(MarkerArray(markers=[Marker(action=Marker.DELETE, ns='drag', id=3)]))
+    name = 'xyz'[i]
     print(f'obstacle drag: {len(sent) - n} markers sent; the last {along * 1e3:.1f} mm along '
-          f'{"xyz"[i]}, {across * 1e3:.3f} mm across')
+          f'{name}, {across * 1e3:.3f} mm across')
     assert (last.ns, last.id, last.type, last.action) == ('drag', 3, Marker.SPHERE, Marker.ADD)
     assert last.header.frame_id == 'world' and last.scale.x == 0.16
     assert 0.01 < along < 0.25 and across < 1e-3

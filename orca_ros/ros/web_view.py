@@ -151,9 +151,8 @@ class WebView(GuardedNode):
             self.scene, self._description = scene, text
             self._state_changed = True
             self.page.set_robot(scene.visuals)
-        self.get_logger().info(
-            f'robot: {len(scene.visuals)} visuals, joints {", ".join(scene.joint_names)}'
-        )
+        joints = ', '.join(scene.joint_names)
+        self.get_logger().info(f'robot: {len(scene.visuals)} visuals, joints {joints}')
 
     def _on_state(self, msg: JointState) -> None:
         if len(msg.position) != len(msg.name):
