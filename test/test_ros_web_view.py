@@ -412,7 +412,8 @@ def test_the_active_checkbox_toggles_the_task_and_the_error_is_shown(run):
     clicked = time.time()
     box()[0].click()
     probe.wait_for(lambda: 'ee' not in active(), 20, "the controller's ee task inactive")
-    # past the page's hold (2 s after the click) the diagnostics keep the box unchecked
+    # the diagnostics agree with the click by now (the probe saw it): later reports keep the box
+    # unchecked, and one from before the click read late cannot check it again
     time.sleep(max(0.0, clicked + 2.6 - time.time()))
     assert not checkbox.is_selected() and 'posture' in active()
     box()[0].click()

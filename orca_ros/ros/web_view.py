@@ -67,7 +67,10 @@ from ..view.solve_times import SolveTimeHistory
 
 POSE_TYPE = 'geometry_msgs/msg/PoseStamped'
 ERROR_PERIOD = 0.2  # s between two updates of a task's error on the page
-TOGGLE_HOLD = 2.0  # s after a click during which the diagnostics do not reset the checkbox
+# after a click the checkbox keeps the clicked value until the controller's diagnostics agree
+# (a report from before the click, read late on a busy machine, cannot undo it), at most this
+# long (s): a refused or lost request shows again
+TOGGLE_HOLD = 5.0
 
 
 class WebView(GuardedNode):
@@ -102,7 +105,7 @@ class WebView(GuardedNode):
         self._target_pubs: dict = {}
         self._set_active: dict = {}  # task name -> SetBool client
         self._error_shown: dict = {}  # task name -> when its error was last shown
-        self._toggled: dict = {}  # task name -> when a tab toggled it (its ramp takes a while)
+        self._toggled: dict = {}  # task name -> (when, value) a tab toggled it (it ramps)
         self._obstacles: dict = {}  # name -> (shape, size, pose, frame: None = the world)
         self.solve_times = SolveTimeHistory(float(param(self, 'plot_window', 30.0)))
         self._pattern = re.compile(rf'^{re.escape(self.ns)}/tasks/([^/]+)/current_pose$')
@@ -343,8 +346,13 @@ class WebView(GuardedNode):
             active = set(filter(None, values['active_tasks'].split(',')))
             now = time.monotonic()
             for name in self._set_active:
-                if now - self._toggled.get(name, -10.0) > TOGGLE_HOLD:
-                    self.page.set_task_active(name, name in active)
+                clicked = self._toggled.get(name)
+                if clicked is not None:
+                    at, value = clicked
+                    if (name in active) != value and now - at <= TOGGLE_HOLD:
+                        continue  # the controller has not taken the click yet
+                    self._toggled.pop(name, None)
+                self.page.set_task_active(name, name in active)
 
     def _on_active_toggled(self, name: str, value: bool) -> None:
         """Ask the controller to (de)activate a task (viser's thread); it ramps it."""
@@ -352,7 +360,7 @@ class WebView(GuardedNode):
         if not client.service_is_ready():
             self.say('warning', f'set_active:{name}', f"task '{name}': no set_active service")
             return
-        self._toggled[name] = time.monotonic()
+        self._toggled[name] = (time.monotonic(), value)
         client.call_async(SetBool.Request(data=value))
         self.get_logger().info(f"task '{name}': {'activate' if value else 'deactivate'} asked")
 
