@@ -41,7 +41,7 @@ class SafeCommand:
         self.limit = np.where((lim > 0) & np.isfinite(lim), lim, np.inf)
         self._start: float | None = None
         n = robot.get_nr_of_degrees_of_freedom()
-        self._n, self._nb = n, robot.get_configuration_space_dimension() - n
+        self._nb = robot.get_configuration_space_dimension() - n
         self._from = np.zeros(n)
         self._zeros = np.zeros(n)
         self._tau = np.zeros(n)  # the hold's buffer (a spell calls it every cycle)
