@@ -79,14 +79,36 @@ class CollisionAvoidanceConstraint(GenericConstraint):
                              'distance)')
         if int(max_pairs) < 1:
             raise ValueError(f"constraint '{name}': max_pairs must be >= 1")
-        self.influence_distance, self.safety_distance = float(influence_distance), \
-            float(safety_distance)
-        self.max_pairs, self.max_deceleration = int(max_pairs), float(max_deceleration)
-        self.horizon = float(horizon)
+        # [influence distance, safety distance, horizon, max deceleration]: read by the kernels
+        self.settings = np.array([influence_distance, safety_distance, horizon,
+                                  max_deceleration], dtype=float)
+        self.max_pairs = int(max_pairs)
         self.geometry: CollisionGeometry | None = None
         self._pending: dict = {}  # obstacles added before the robot is known
         self._moving: dict = {}  # name -> (pose, velocity, time of the pose): moved each cycle
-        self.last_pairs: list[tuple[str, str, float]] = []  # (body, body, distance), closest first
+        self._kernels = None  # the compiled cycle's (optim/compiled/collision.py), if any
+        self._m = 0  # rows written in the last cycle: pairs _sel[:_m] at distances _seld[:_m]
+        self._sel, self._seld = np.zeros(0, dtype=np.int64), np.zeros(0)
+
+    influence_distance = property(lambda self: float(self.settings[0]),
+                                  doc='pairs closer than this [m] are watched')
+    safety_distance = property(lambda self: float(self.settings[1]),
+                               doc='the least distance kept between bodies [m]')
+    horizon = property(lambda self: float(self.settings[2]),
+                       doc='time over which the distance approaches the safety distance [s]')
+    max_deceleration = property(lambda self: float(self.settings[3]),
+                                doc='the largest closing deceleration asked [m/s^2]')
+
+    @property
+    def last_pairs(self) -> list[tuple[str, str, float]]:
+        """The pairs of the last cycle's rows: (body, body, distance), closest first."""
+        geom = self.geometry
+        return [(*geom.names_of(int(k)), float(d))
+                for k, d in zip(self._sel[:self._m], self._seld[:self._m])]
+
+    def use_kernels(self, kernels) -> None:
+        """Fill the rows by ``kernels`` (the compiled cycle's), or in Python again (None)."""
+        self._kernels = kernels
 
     # ------------------------------------------------------------------ obstacles
     def add_obstacle(self, name: str, shape: str, size, pose=None, frame=None) -> None:
@@ -133,6 +155,7 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         super().resize(layout)
         m = self.max_pairs
         self._room, self._vel, self._out = np.zeros(m), np.zeros(m), np.zeros(m)
+        self._sel, self._seld, self._m = np.zeros(m, dtype=np.int64), np.zeros(m), 0
         self._bound = ViableBound(m)
         self._bound.set_acceleration(self.max_deceleration)
         robot = self.robot
@@ -161,10 +184,6 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         return J, J @ robot._v_pin, acc
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
-        C, lb, ub = self.C, self.lb, self.ub
-        C.fill(0.0)
-        lb.fill(-np.inf)
-        ub.fill(np.inf)
         robot = self.robot
         robot._update_terms()  # the joints' placements, Jacobians and drifts of this state
         geom = self.geometry
@@ -172,6 +191,13 @@ class CollisionAvoidanceConstraint(GenericConstraint):
             moved = pose.copy()
             moved[:3, 3] += velocity * min(max(current_time - at, 0.0), EXTRAPOLATION)
             geom.move_obstacle(name, moved, None, velocity)
+        if self._kernels is not None:
+            self._m = self._kernels.update(dt)
+            return
+        C, lb, ub = self.C, self.lb, self.ub
+        C.fill(0.0)
+        lb.fill(-np.inf)
+        ub.fill(np.inf)
         h, A = self.horizon, self.max_deceleration
         pairs = geom.closest(robot.data, self.influence_distance,
                              lambda s: h * s + s * s / (2.0 * A))
@@ -194,7 +220,9 @@ class CollisionAvoidanceConstraint(GenericConstraint):
                 rows.append((room, closing, n @ (Jb - Ja), float(n @ (ab - aa)), k, d))
             if len(rows) == self.max_pairs:
                 break
-        self.last_pairs = [(*geom.names_of(r[4]), r[5]) for r in rows]
+        self._m = len(rows)
+        for i, r in enumerate(rows):
+            self._sel[i], self._seld[i] = r[4], r[5]
         if not rows:
             return
         room, vel, out = self._room, self._vel, self._out

@@ -1,0 +1,366 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+Collision avoidance by kernel: what CollisionAvoidanceConstraint's update does, in two kernels.
+
+Per cycle, around coal's distances of the pairs that may matter:
+
+1. :func:`screen` places each geometry's bounding sphere (Pinocchio's ``oMg``, read over its own
+   storage) and keeps the pairs closer than the influence distance plus what their bodies' speeds
+   may close in the horizon;
+2. Pinocchio's ``computeDistance`` runs on those pairs (one Python call each: GJK in coal), which
+   leaves its results in GeometryData's ``distanceResults``;
+3. :func:`rows` reads the results over their storage, keeps the watched pairs closest first (at
+   most ``max_pairs``), and writes each one's row n . (J_p2 - J_p1) from Data's joint Jacobians,
+   and its bound from the distance's drift and the viable bound, into the constraint's arrays.
+
+The same numbers as the reference (``CollisionAvoidanceConstraint`` in Python, the same
+``computeDistance``), to rounding: ``test_collision_kernels.py``. The views on coal's results are
+checked at set-up, value by value for every pair; where their layout is not the one read here
+(another coal), :func:`result_view` returns None and the constraint keeps its Python update.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+
+from numba import types
+from numba.experimental import structref
+import numpy as np
+import pinocchio as pin
+
+from .fill import _view
+from .kernels import viable_upper
+from ...utils.jit import entry, njit
+
+RES = 10  # a result as read: distance, normal (3), nearest point 1 (3), nearest point 2 (3)
+#: a pair's distance is computed again when its bound from the last one is this close to its limit
+#: [m] (GJK's own tolerance is far below)
+SEEN_MARGIN = 1e-4
+
+
+def placement_view(gd, count: int):
+    """(count, 12) view on GeometryData's oMg [R column-major, p], or None if not laid out so."""
+    if count == 0:
+        return None
+    view = _view(gd.oMg[0].rotation, count, 12)
+    for g in range(count):
+        M = gd.oMg[g]
+        if not (np.array_equal(view[g, :9], M.rotation.reshape(-1, order='F'))
+                and np.array_equal(view[g, 9:], M.translation)):
+            return None
+    return view
+
+
+def result_view(gm, gd):
+    """
+    (pairs, RES) view on GeometryData's distance results, or None if not laid out as read here.
+
+    coal's DistanceResult keeps min_distance just before the normal and the two nearest points
+    after it. Checked on this GeometryData's own results after a pass over every pair.
+    """
+    n = len(gm.collisionPairs)
+    if n == 0:
+        return None
+    pin.computeDistances(gm, gd)
+    results = gd.distanceResults
+    first = results[0].normal
+    if first.flags['OWNDATA'] or first.dtype != np.float64:
+        return None  # a copy: not the results' storage
+    start = first.__array_interface__['data'][0] - 8
+    stride = 8 * RES
+    if n > 1:
+        stride = results[1].normal.__array_interface__['data'][0] - start - 8
+    if stride % 8 or stride < 8 * RES:
+        return None
+    width = stride // 8
+    buf = (ctypes.c_double * ((n - 1) * width + RES)).from_address(start)
+    flat = np.ctypeslib.as_array(buf)
+    view = np.lib.stride_tricks.as_strided(flat, shape=(n, RES), strides=(stride, 8))
+    for k in range(n):  # (equal NaNs too: bodies placed into each other may leave some)
+        r = results[k]
+        got = np.concatenate(([r.min_distance], r.normal, r.getNearestPoint1(),
+                              r.getNearestPoint2()))
+        if not (np.array_equal(view[k], got, equal_nan=True)
+                and r.normal.__array_interface__['data'][0] == start + k * stride + 8):
+            return None
+    return view
+
+
+@njit
+def screen(ws):
+    """
+    Keep the pairs that may come within reach; return how many (in ``cand``, marked in ``active``).
+
+    ``gsphere[g]`` = [centre in the geometry's frame (3), radius, lever]; a body moving at speed
+    s (its joint's linear speed plus angular speed times the lever) is watched h s + s^2 / 2A
+    further (the reference's ``reach``); ``limit[k]``: the distance under which pair k counts.
+    A pair is kept when its bounding spheres are closer than that, unless its last computed
+    distance ``seen[k, 0]``, less how far any point of either body has moved since (the centre's
+    displacement plus the radius times the rotation's change, ``seen[k, 1:]``), is still beyond it
+    (with SEEN_MARGIN): its distance now is then too, as the reference finds.
+    """
+    oMg, vj, gsphere, centres, extra = ws.oMg, ws.vj, ws.gsphere, ws.centres, ws.extra
+    pairs, limit, seen, active = ws.pairs, ws.limit, ws.seen, ws.active
+    influence, h, A = ws.settings[0], ws.settings[2], ws.settings[3]
+    for g in range(ws.gjoint.shape[0]):
+        for r in range(3):
+            s = oMg[g, 9 + r]
+            for c in range(3):
+                s += oMg[g, r + 3 * c] * gsphere[g, c]
+            centres[g, r] = s
+        j = ws.gjoint[g]
+        if j == 0:
+            extra[g] = 0.0
+        else:
+            lin = math.sqrt(vj[j, 0] ** 2 + vj[j, 1] ** 2 + vj[j, 2] ** 2)
+            ang = math.sqrt(vj[j, 3] ** 2 + vj[j, 4] ** 2 + vj[j, 5] ** 2)
+            s = lin + ang * gsphere[g, 4]
+            extra[g] = h * s + s * s / (2.0 * A)
+    n = 0
+    for k in range(ws.npairs):
+        a, b = pairs[k, 0], pairs[k, 1]
+        active[a, b] = False
+        limit[k] = influence + extra[a] + extra[b]
+        d2 = 0.0
+        for r in range(3):
+            d2 += (centres[a, r] - centres[b, r]) ** 2
+        if math.sqrt(d2) - gsphere[a, 3] - gsphere[b, 3] >= limit[k]:
+            continue
+        if seen[k, 0] - _moved(oMg, centres, gsphere, a, seen, k, 1) \
+                - _moved(oMg, centres, gsphere, b, seen, k, 13) >= limit[k] + SEEN_MARGIN:
+            continue  # (False for a NaN distance)
+        active[a, b] = True
+        ws.cand[n] = k
+        n += 1
+    return n
+
+
+@njit
+def _moved(oMg, centres, gsphere, g, seen, k, at):
+    """Bound on how far any point of geometry g moved since seen[k, at:at + 12] = [centre, R]."""
+    dc = 0.0
+    for r in range(3):
+        dc += (centres[g, r] - seen[k, at + r]) ** 2
+    dr = 0.0
+    for i in range(9):
+        dr += (oMg[g, i] - seen[k, at + 3 + i]) ** 2
+    return math.sqrt(dc) + gsphere[g, 3] * math.sqrt(dr)
+
+
+@njit
+def _point_terms(jt, res, k, at, sign, oMi, vj, aj, J, sup, row):
+    """
+    Add sign * n . J_p to ``row``; return n . (drift acceleration of p) (0 for the world).
+
+    p = res[k, at:at + 3] (a nearest point), n = res[k, 1:4] (the pair's normal).
+    """
+    if jt == 0:
+        return 0.0
+    n0, n1, n2 = res[k, 1], res[k, 2], res[k, 3]
+    p0, p1, p2 = res[k, at], res[k, at + 1], res[k, at + 2]
+    # n . (v_o + w x p) per column: n . J_lin + J_ang . (p x n)
+    pxn0 = p1 * n2 - p2 * n1
+    pxn1 = p2 * n0 - p0 * n2
+    pxn2 = p0 * n1 - p1 * n0
+    for c in range(J.shape[1]):
+        if sup[jt, c]:
+            row[c] += sign * (n0 * J[0, c] + n1 * J[1, c] + n2 * J[2, c]
+                              + J[3, c] * pxn0 + J[4, c] * pxn1 + J[5, c] * pxn2)
+    # the point's acceleration at nu_dot = 0, in the joint's frame then turned to the world:
+    # a_lin + a_ang x rl + w x (v_lin + w x rl), rl = R^T (p - t)
+    d0, d1, d2 = p0 - oMi[jt, 9], p1 - oMi[jt, 10], p2 - oMi[jt, 11]
+    rl0 = oMi[jt, 0] * d0 + oMi[jt, 1] * d1 + oMi[jt, 2] * d2
+    rl1 = oMi[jt, 3] * d0 + oMi[jt, 4] * d1 + oMi[jt, 5] * d2
+    rl2 = oMi[jt, 6] * d0 + oMi[jt, 7] * d1 + oMi[jt, 8] * d2
+    w0, w1, w2 = vj[jt, 3], vj[jt, 4], vj[jt, 5]
+    u0 = vj[jt, 0] + w1 * rl2 - w2 * rl1
+    u1 = vj[jt, 1] + w2 * rl0 - w0 * rl2
+    u2 = vj[jt, 2] + w0 * rl1 - w1 * rl0
+    b0, b1, b2 = aj[jt, 3], aj[jt, 4], aj[jt, 5]
+    loc0 = aj[jt, 0] + b1 * rl2 - b2 * rl1 + w1 * u2 - w2 * u1
+    loc1 = aj[jt, 1] + b2 * rl0 - b0 * rl2 + w2 * u0 - w0 * u2
+    loc2 = aj[jt, 2] + b0 * rl1 - b1 * rl0 + w0 * u1 - w1 * u0
+    return (n0 * (oMi[jt, 0] * loc0 + oMi[jt, 3] * loc1 + oMi[jt, 6] * loc2)
+            + n1 * (oMi[jt, 1] * loc0 + oMi[jt, 4] * loc1 + oMi[jt, 7] * loc2)
+            + n2 * (oMi[jt, 2] * loc0 + oMi[jt, 5] * loc1 + oMi[jt, 8] * loc2))
+
+
+@njit
+def rows(ws, n, dt, acc0):
+    """
+    Write the watched pairs' rows and lower bounds, closest first; return how many.
+
+    Of the ``n`` pairs kept by :func:`screen`, whose distances coal has just computed (their
+    placements and distances recorded in ``seen`` first); ``acc0``: the column of the first
+    acceleration. ``sel``/``seld``: the pairs written and their distances.
+    """
+    res, cand, limit, order, pairs, gjoint, gvel = (ws.res, ws.cand, ws.limit, ws.order, ws.pairs,
+                                                    ws.gjoint, ws.gvel)
+    oMi, vj, aj, J, sup, v_pin = ws.oMi, ws.vj, ws.aj, ws.J, ws.sup, ws.v_pin
+    C, lb, ub, seen = ws.C, ws.lb, ws.ub, ws.seen
+    influence, safety, h, A = ws.settings[0], ws.settings[1], ws.settings[2], ws.settings[3]
+    C[:, :] = 0.0
+    lb[:] = -np.inf
+    ub[:] = np.inf
+    m = 0
+    for i in range(n):
+        k = cand[i]
+        seen[k, 0] = res[k, 0]
+        for side in range(2):
+            g, at = pairs[k, side], 1 + 12 * side
+            for r in range(3):
+                seen[k, at + r] = ws.centres[g, r]
+            for e in range(9):
+                seen[k, at + 3 + e] = ws.oMg[g, e]
+        d = res[k, 0]
+        if not d < limit[k]:
+            continue
+        at = m  # the pairs within their limit, by distance (stable: as the reference)
+        while at > 0 and res[order[at - 1], 0] > d:
+            order[at] = order[at - 1]
+            at -= 1
+        order[at] = k
+        m += 1
+    row = ws.row
+    out = 0
+    for i in range(m):
+        if out == C.shape[0]:
+            break
+        k = order[i]
+        d = res[k, 0]
+        ga, gb = pairs[k, 0], pairs[k, 1]
+        row[:] = 0.0
+        drift = _point_terms(gjoint[gb], res, k, 7, 1.0, oMi, vj, aj, J, sup, row)
+        drift -= _point_terms(gjoint[ga], res, k, 4, -1.0, oMi, vj, aj, J, sup, row)
+        rate = 0.0  # n . (v_p2 - v_p1)
+        for c in range(row.shape[0]):
+            rate += row[c] * v_pin[c]
+        for r in range(3):
+            rate += res[k, 1 + r] * (gvel[gb, r] - gvel[ga, r])
+        closing = -rate
+        room = d - safety
+        if d < influence or room < h * closing + closing * abs(closing) / A:
+            for c in range(row.shape[0]):
+                C[out, acc0 + c] = row[c]
+            lb[out] = -viable_upper(room, closing, A, dt, max(h, dt), False) - drift
+            ws.sel[out] = k
+            ws.seld[out] = d
+            out += 1
+    return out
+
+
+FIELDS = (
+    # Pinocchio: the geometries' placements (GeometryData), the joints' placements, velocities,
+    # drifts and Jacobians (Data), the joints' supports, the velocity
+    'oMg', 'oMi', 'vj', 'aj', 'J', 'sup', 'v_pin',
+    # the geometries: joint, bounding sphere [centre, radius, lever], velocity (moving obstacles);
+    # the pairs [first, second] and how many
+    'gjoint', 'gsphere', 'gvel', 'pairs', 'npairs',
+    # per cycle: sphere centres, reach, each pair's limit, the kept pairs (list and mask), what
+    # was last seen of each, coal's results, their order, one row
+    'centres', 'extra', 'limit', 'cand', 'active', 'seen', 'res', 'order', 'row',
+    # out: the pairs written and their distances; the constraint's settings and rows
+    'sel', 'seld', 'settings', 'C', 'lb', 'ub',
+)
+
+
+@structref.register
+class CollisionWorkspaceType(types.StructRef):
+    def preprocess_fields(self, fields):
+        return tuple((name, types.unliteral(t)) for name, t in fields)
+
+
+class CollisionWorkspace(structref.StructRefProxy):
+    """The arrays of one constraint's kernels (fields: :data:`FIELDS`)."""
+
+
+structref.define_proxy(CollisionWorkspace, CollisionWorkspaceType, list(FIELDS))
+
+
+class CollisionKernels:
+    """The kernels of one CollisionAvoidanceConstraint, on its geometry and the robot's Data."""
+
+    def __init__(self, constraint):
+        self.constraint = constraint
+        self._bind()
+
+    @staticmethod
+    def unavailable_reason(constraint) -> str | None:
+        """Why the kernels cannot read this constraint's geometry (None: they can)."""
+        geom = constraint.geometry
+        if placement_view(geom.geom_data, geom.geom_model.ngeoms) is None:
+            return "Pinocchio's geometry placements are not laid out as the kernels read them"
+        if len(geom.geom_model.collisionPairs) and result_view(geom.geom_model,
+                                                               geom.geom_data) is None:
+            return "coal's distance results are not laid out as the kernels read them"
+        return None
+
+    def _bind(self) -> None:
+        """Take the views and make the workspace (again after the geometry or Data changed)."""
+        from .fill import data_views
+
+        con = self.constraint
+        geom, robot = con.geometry, con.robot
+        model, data = robot.model, robot.data
+        gm, gd = geom.geom_model, geom.geom_data
+        ng, npairs = gm.ngeoms, len(gm.collisionPairs)
+        oMg = placement_view(gd, ng)
+        res = result_view(gm, gd) if npairs else np.zeros((1, RES))
+        views = data_views(model, data)
+        if oMg is None or res is None or views is None:
+            raise RuntimeError(CollisionKernels.unavailable_reason(con)
+                               or "Pinocchio's Data is not laid out as the kernels read it")
+        sup = np.zeros((model.njoints, model.nv), dtype=np.bool_)
+        for jt in range(1, model.njoints):
+            for s in model.supports[jt]:
+                if s > 0:
+                    jm = model.joints[s]
+                    sup[jt, jm.idx_v: jm.idx_v + jm.nv] = True
+        gsphere = np.zeros((ng, 5))
+        gsphere[:, :3], gsphere[:, 3], gsphere[:, 4] = geom._centre, geom._radius, geom._lever
+        pairs = np.zeros((max(1, npairs), 2), dtype=np.int64)
+        pairs[:npairs, 0], pairs[:npairs, 1] = geom._first, geom._second
+        size = max(1, npairs)
+        self.active = np.zeros((ng, ng), dtype=np.bool_)
+        self.ws = CollisionWorkspace(
+            oMg, views[0], views[1], views[2], data.J, sup, robot._v_pin,
+            np.array(geom._joint, dtype=np.int64), gsphere, geom.velocity, pairs, npairs,
+            np.zeros((ng, 3)), np.zeros(ng), np.zeros(size), np.zeros(size, dtype=np.int64),
+            self.active, np.full((size, 25), np.nan), res,
+            np.zeros(size, dtype=np.int64), np.zeros(model.nv), con._sel, con._seld,
+            con.settings, con.C, con.lb, con.ub,
+        )
+        self._screen = entry(screen, self.ws)
+        self._rows = entry(rows, self.ws, 0, 1e-3, 0)
+        self._acc0 = con.layout.acc.start
+        self._bound = (geom.version, data, con.C, con._sel)
+
+    def update(self, dt: float) -> int:
+        """Fill the constraint's rows for this cycle (the joints' terms are Data's); return m."""
+        con = self.constraint
+        geom, robot = con.geometry, con.robot
+        bound = self._bound
+        if (geom.version != bound[0] or robot.data is not bound[1] or con.C is not bound[2]
+                or con._sel is not bound[3]):
+            self._bind()
+        gm, gd = geom.geom_model, geom.geom_data
+        pin.updateGeometryPlacements(robot.model, robot.data, gm, gd)
+        ws = self.ws
+        n = self._screen(ws)
+        if n:  # the kept pairs' distances, in one call
+            gd.setActiveCollisionPairs(gm, self.active, True)
+            pin.computeDistances(gm, gd)
+        return self._rows(ws, n, dt, self._acc0)
