@@ -125,16 +125,20 @@ def main() -> None:
             got[which].append(json.loads(out.strip().splitlines()[-1]))
     row = {w: {key: float(np.median([r[key] for r in rs])) for key in ('median', 'p99')}
            for w, rs in got.items()}
-    print(f"Panda, {got['with'][0]['pairs']} pairs (SRDF) + a ball, compiled cycle "
-          f"{got['with'][0]['compiled']}, median over {args.rounds} interleaved rounds:")
+    first = got['with'][0]
+    pairs, compiled = first['pairs'], first['compiled']
+    print(f'Panda, {pairs} pairs (SRDF) + a ball, compiled cycle {compiled}, median over '
+          f'{args.rounds} interleaved rounds:')
     print('             median us   p99 us   failed cycles')
     for w, rs in got.items():
-        print(f'{w:>10}   {row[w]["median"]:9.1f}   {row[w]["p99"]:6.1f}   '
-              f'{sum(r["failures"] for r in rs)}')
+        median, p99 = row[w]['median'], row[w]['p99']
+        failed = sum(r['failures'] for r in rs)
+        print(f'{w:>10}   {median:9.1f}   {p99:6.1f}   {failed}')
     ratio = row['with']['median'] / row['without']['median']
-    print(f'ratio with / without: median {ratio:.2f}, p99 '
-          f"{row['with']['p99'] / row['without']['p99']:.2f} (target <= {TARGET:.1f}: "
-          f"{'met' if ratio <= TARGET else 'NOT met'})")
+    ratio99 = row['with']['p99'] / row['without']['p99']
+    verdict = 'met' if ratio <= TARGET else 'NOT met'
+    print(f'ratio with / without: median {ratio:.2f}, p99 {ratio99:.2f} (target <= {TARGET:.1f}: '
+          f'{verdict})')
 
 
 if __name__ == '__main__':

@@ -48,7 +48,9 @@ import pinocchio as pin
 from .generic_constraint import GenericConstraint
 from .viable_bound import ViableBound
 from ..robot.collision_geometry import CollisionGeometry, make_shape
+from ..utils.logger import get_logger
 
+_LOG = get_logger('collision')
 _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 #: the longest an obstacle's pose is carried on along its velocity [s]
 EXTRAPOLATION = 0.1
@@ -101,7 +103,7 @@ class CollisionAvoidanceConstraint(GenericConstraint):
 
     @property
     def last_pairs(self) -> list[tuple[str, str, float]]:
-        """The pairs of the last cycle's rows: (body, body, distance), closest first."""
+        """Return the pairs of the last cycle's rows: (body, body, distance), closest first."""
         geom = self.geometry
         return [(*geom.names_of(int(k)), float(d))
                 for k, d in zip(self._sel[:self._m], self._seld[:self._m])]
@@ -192,8 +194,13 @@ class CollisionAvoidanceConstraint(GenericConstraint):
             moved[:3, 3] += velocity * min(max(current_time - at, 0.0), EXTRAPOLATION)
             geom.move_obstacle(name, moved, None, velocity)
         if self._kernels is not None:
-            self._m = self._kernels.update(dt)
-            return
+            try:
+                self._m = self._kernels.update(dt)
+                return
+            except RuntimeError as exc:  # views no longer laid out as read: Python from now on
+                _LOG.error("constraint '%s': %s; its rows are computed in Python from now on",
+                           self.name, exc)
+                self._kernels = None
         C, lb, ub = self.C, self.lb, self.ub
         C.fill(0.0)
         lb.fill(-np.inf)

@@ -126,8 +126,8 @@ class CollisionGeometry:
         self.geom_data = pin.GeometryData(gm)
         for request in self.geom_data.distanceRequests:
             # GJK stops when its distance is this close; its normal is then off by about
-            # sqrt(2 tol / d): at coal's 1e-6, up to 4e-3 rad at 10 cm, jumping from one state to the
-            # next as the iterations end at other points; the rows follow it. On the
+            # sqrt(2 tol / d): at coal's 1e-6, up to 4e-3 rad at 10 cm, jumping from one state to
+            # the next as the iterations end at other points; the rows follow it. On the
             # Panda going round a ball (test_collision_avoidance.py) the torques stepped 4.6 Nm
             # in one cycle from that noise; 2.9 at 1e-8 and below (the joints' own kink). GJK takes
             # as long at 1e-9 as at 1e-6 there (0.82 us per pair).

@@ -56,10 +56,12 @@ def placement_view(gd, count: int):
     if count == 0:
         return None
     view = _view(gd.oMg[0].rotation, count, 12)
-    for g in range(count):
+    for g in range(count):  # (equal NaNs too: a new GeometryData's placements are not set yet)
         M = gd.oMg[g]
-        if not (np.array_equal(view[g, :9], M.rotation.reshape(-1, order='F'))
-                and np.array_equal(view[g, 9:], M.translation)):
+        if not (np.array_equal(view[g, :9], M.rotation.reshape(-1, order='F'), equal_nan=True)
+                and np.array_equal(view[g, 9:], M.translation, equal_nan=True)
+                and M.rotation.__array_interface__['data'][0]
+                == view[g].__array_interface__['data'][0]):
             return None
     return view
 
@@ -141,10 +143,12 @@ def screen(ws):
             continue
         if seen[k, 0] - _moved(oMg, centres, gsphere, a, seen, k, 1) \
                 - _moved(oMg, centres, gsphere, b, seen, k, 13) >= limit[k] + SEEN_MARGIN:
+            ws.counts[1] += 1
             continue  # (False for a NaN distance)
         active[a, b] = True
         ws.cand[n] = k
         n += 1
+    ws.counts[0] += n
     return n
 
 
@@ -272,8 +276,9 @@ FIELDS = (
     # per cycle: sphere centres, reach, each pair's limit, the kept pairs (list and mask), what
     # was last seen of each, coal's results, their order, one row
     'centres', 'extra', 'limit', 'cand', 'active', 'seen', 'res', 'order', 'row',
-    # out: the pairs written and their distances; the constraint's settings and rows
-    'sel', 'seld', 'settings', 'C', 'lb', 'ub',
+    # out: the pairs written and their distances; the constraint's settings and rows; the
+    # distances computed and skipped (their last one, less the bodies' motion, beyond reach)
+    'sel', 'seld', 'settings', 'C', 'lb', 'ub', 'counts',
 )
 
 
@@ -334,6 +339,7 @@ class CollisionKernels:
         pairs = np.zeros((max(1, npairs), 2), dtype=np.int64)
         pairs[:npairs, 0], pairs[:npairs, 1] = geom._first, geom._second
         size = max(1, npairs)
+        self.counts = np.zeros(2, dtype=np.int64)  # distances computed, skipped (since bound)
         self.active = np.zeros((ng, ng), dtype=np.bool_)
         self.ws = CollisionWorkspace(
             oMg, views[0], views[1], views[2], data.J, sup, robot._v_pin,
@@ -341,7 +347,7 @@ class CollisionKernels:
             np.zeros((ng, 3)), np.zeros(ng), np.zeros(size), np.zeros(size, dtype=np.int64),
             self.active, np.full((size, 25), np.nan), res,
             np.zeros(size, dtype=np.int64), np.zeros(model.nv), con._sel, con._seld,
-            con.settings, con.C, con.lb, con.ub,
+            con.settings, con.C, con.lb, con.ub, self.counts,
         )
         self._screen = entry(screen, self.ws)
         self._rows = entry(rows, self.ws, 0, 1e-3, 0)

@@ -113,8 +113,9 @@ class QPBackend:
         n = (_TIME_SHARE * (deadline - now) - fixed) / per  # the further iterations that fit
         # min(cap, max(min_iterations, 1 + int(n))), in the control cycle's hot path
         least = self.min_iterations
-        fit = least if n < least - 1 else 1 + int(n)
-        return fit if fit < cap else cap
+        if n < least - 1:
+            return least
+        return 1 + int(n) if n < cap else cap  # (n may be inf: a solve model of ~0 s)
 
     def record(self, seconds: float, iterations: int) -> None:
         """
