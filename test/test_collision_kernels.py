@@ -219,8 +219,9 @@ def test_kernels_equal_the_reference_along_a_run_and_skip_far_pairs(example_robo
         _compare(pair, worst)
         q, v = integrate(robot, q, v, ref.get_joint_torque_command(), dt)
     computed, skipped = pair[0][4]._kernels.counts
-    print(f"rows differ by {worst['rows']:.1e}, torques by {worst['tau']:.1e}; up to "
-          f"{worst['pairs']} pairs with rows; distances computed {computed}, skipped {skipped}")
+    rows, tau, most = worst['rows'], worst['tau'], worst['pairs']
+    print(f'rows differ by {rows:.1e}, torques by {tau:.1e}; up to {most} pairs with rows; '
+          f'distances computed {computed}, skipped {skipped}')
     assert worst['pairs'] >= 4
     assert skipped > 0.1 * (computed + skipped)  # the far pairs' distances were not recomputed
     assert worst['rows'] <= 1e-9 and worst['tau'] <= 1e-9, worst
