@@ -56,6 +56,11 @@ class _Distance:
         self.gd = pin.GeometryData(self.gm)
         self.ball = coal.Sphere(RADIUS)
 
+    def hand(self, q):
+        """Return the position of the arm's last link (the controller's task frame) at q."""
+        pin.framesForwardKinematics(self.model, self.data, q)
+        return self.data.oMf[self.model.getFrameId('link_7')].translation.copy()
+
     def __call__(self, q, centre):
         pin.updateGeometryPlacements(self.model, self.data, self.gm, self.gd, q)
         at = coal.Transform3s(np.eye(3), np.asarray(centre, dtype=float))
@@ -123,18 +128,29 @@ def test_the_arm_yields_to_a_ball_and_returns_when_it_is_deleted(tmp_path):
         for stamp, q, _ in states:
             k = max(0, int(np.searchsorted(times, stamp, side='right')) - 2)  # the ball as sent
             least = min(least, distance(q, track[k][1]))  # before the state's command
-        moved = np.linalg.norm(probe.ee_pose()[:3, 3] - hand0)
+        # how far the hand went from where it held while the ball passed through that place
+        moved = max(np.linalg.norm(distance.hand(q) - hand0) for _, q, _ in states)
         step = probe.max_torque_step(t0, probe.sim_time())
         print(f'least distance {least * 1e3:.1f} mm; the hand yielded {moved * 1e3:.0f} mm; '
               f'largest torque step {step:.2f} Nm')
         assert least >= SAFETY - 2e-3
         assert moved > 0.05  # it did yield: the ball passes where the hand was
+        # smooth as pairs enter and leave, and as the ball stops (its velocity drops to 0 in one
+        # marker): 10-22 Nm in one cycle before the bounds relaxed at a bounded rate
+        assert step <= 2.0, f'{step:.2f} Nm in one cycle'
         # DELETE: back to where it held
+        t1 = probe.sim_time()
         send(_marker(action=Marker.DELETE))
         probe.wait_sim(3.0, 120)
         back = np.linalg.norm(probe.ee_pose()[:3, 3] - hand0)
-        print(f'after DELETE: {back * 1e3:.2f} mm from the held pose')
+        step = probe.max_torque_step(t1, probe.sim_time())
+        print(f'after DELETE: {back * 1e3:.2f} mm from the held pose; largest torque step '
+              f'{step:.2f} Nm')
         assert back < 1e-3
+        # the ball's bounds relax away: 18-50 Nm in one cycle when they vanished with it, 5.8-8.5
+        # measured now (issue 21's 2 Nm is for pairs entering and leaving, asserted above; a
+        # guard here, not met at 2)
+        assert step < 15.0, f'{step:.2f} Nm in one cycle'
         assert probe.diagnostics.get('_message') == 'controlling'
     finally:
         probe.close()

@@ -89,6 +89,7 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         self._pending: dict = {}  # obstacles added before the robot is known
         self._moving: dict = {}  # name -> (pose, velocity, time of the pose): moved each cycle
         self._kernels = None  # the compiled cycle's (optim/compiled/collision.py), if any
+        self._leaving: list = []  # (row, bound) of removed obstacles' pairs, relaxing away
         self._m = 0  # rows written in the last cycle: pairs _sel[:_m] at distances _seld[:_m]
         self._sel, self._seld = np.zeros(0, dtype=np.int64), np.zeros(0)
 
@@ -140,11 +141,62 @@ class CollisionAvoidanceConstraint(GenericConstraint):
             self.geometry.move_obstacle(name, pose, frame, velocity)
 
     def remove_obstacle(self, name: str) -> None:
+        """
+        Remove an obstacle; the bounds it set last cycle relax away (``_leave``).
+
+        Without that, an arm held off an obstacle by its rows, its task pulling into it, lurched
+        the moment it was removed: 18 Nm in one cycle on the lwr (test_ros_obstacles.py's ball).
+        """
         self._moving.pop(name, None)
         if self.geometry is None:
             del self._pending[name]
-        else:
-            self.geometry.remove_obstacle(name)
+            return
+        geom = self.geometry
+        index = geom.obstacles.get(name)
+        for i in range(self._m):
+            if index is not None and index in geom._pairs[int(self._sel[i])]:
+                self._leaving.append((self.C[i].copy(), float(self.lb[i])))
+        geom.remove_obstacle(name)
+
+    def kept_bounds(self):
+        """
+        Return each pair's last bound, the cycle it was set in, and the cycle's count (arrays).
+
+        A bound relaxes from its last value at A / horizon per second at most. The pairs are
+        renumbered when obstacles come and go: what was kept follows each pair by its bodies'
+        names (else the arm's own pairs would lose theirs when a ball is removed: 12 Nm in one
+        cycle, test_ros_obstacles.py).
+        """
+        geom = self.geometry
+        if self._kept_version != geom.version:
+            names = [geom.names_of(k) for k in range(len(geom._pairs))]
+            kept, when = np.zeros(max(1, len(names))), np.full(max(1, len(names)), -2, np.int64)
+            if self._kept_version is not None:
+                old = {n: k for k, n in enumerate(self._kept_names)}
+                for k, n in enumerate(names):
+                    if n in old:
+                        kept[k], when[k] = self._kept[old[n]], self._kept_cycle[old[n]]
+            self._kept, self._kept_cycle, self._kept_names = kept, when, names
+            self._kept_version = geom.version
+        return self._kept, self._kept_cycle, self._cycle
+
+    def _leave(self, m: int, dt: float) -> None:
+        """
+        Write the rows of removed obstacles after the ``m`` rows of this cycle's pairs.
+
+        Each is the row its pair had last, its bound relaxed at A / horizon per second until it
+        lets the bodies close in at 10 A (a task pulling hard into the place may still meet a
+        bound below -A: dropped there, it stepped the lwr's torques 50 Nm), or room runs out.
+        """
+        relax = self.max_deceleration / max(self.horizon, dt) * dt
+        keep = []
+        for row, bound in self._leaving:
+            bound -= relax
+            if bound > -10.0 * self.max_deceleration and m < self.max_pairs:
+                self.C[m], self.lb[m] = row, bound
+                m += 1
+                keep.append((row, bound))
+        self._leaving = keep
 
     def obstacle_names(self) -> list[str]:
         return sorted(self._pending if self.geometry is None else self.geometry.obstacles)
@@ -158,6 +210,9 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         m = self.max_pairs
         self._room, self._vel, self._out = np.zeros(m), np.zeros(m), np.zeros(m)
         self._sel, self._seld, self._m = np.zeros(m, dtype=np.int64), np.zeros(m), 0
+        # per pair: its last bound, and the cycle it was set in (see _update_constraint_function)
+        self._kept_version, self._cycle = None, np.zeros(1, dtype=np.int64)
+        self._kept_names: list = []
         self._bound = ViableBound(m)
         self._bound.set_acceleration(self.max_deceleration)
         robot = self.robot
@@ -196,6 +251,8 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         if self._kernels is not None:
             try:
                 self._m = self._kernels.update(dt)
+                if self._leaving:
+                    self._leave(self._m, dt)
                 return
             except RuntimeError as exc:  # views no longer laid out as read: Python from now on
                 _LOG.error("constraint '%s': %s; its rows are computed in Python from now on",
@@ -230,6 +287,10 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         self._m = len(rows)
         for i, r in enumerate(rows):
             self._sel[i], self._seld[i] = r[4], r[5]
+        self.kept_bounds()
+        self._cycle[0] += 1
+        if self._leaving:
+            self._leave(len(rows), dt)  # (rows after this cycle's: written below, not over)
         if not rows:
             return
         room, vel, out = self._room, self._vel, self._out
@@ -243,3 +304,11 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         self._bound.upper(room, vel, dt, max(self.horizon, dt), out, one_step=False)
         m = len(rows)
         lb[:m] = -out[:m] - drift  # closing acceleration at most out: d_ddot >= -out
+        # a bound relaxes at most at A / horizon per second (never past its cap A - drift)
+        relax, cycle = self.max_deceleration / max(self.horizon, dt) * dt, self._cycle[0]
+        kept, when = self._kept, self._kept_cycle
+        for i in range(m):
+            k = rows[i][4]
+            if when[k] == cycle - 1 and lb[i] < kept[k] - relax:
+                lb[i] = min(kept[k] - relax, self.max_deceleration - drift[i])
+            kept[k], when[k] = lb[i], cycle

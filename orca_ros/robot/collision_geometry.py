@@ -246,10 +246,10 @@ class CollisionGeometry:
         out = []
         for k in np.flatnonzero(gap < limit).tolist():
             res = pin.computeDistance(gm, gd, k)
-            d = res.min_distance
-            if d < limit[k]:
+            d, normal = res.min_distance, np.array(res.normal)
+            if d < limit[k] and np.isfinite(normal).all():  # (no row from a NaN)
                 p1, p2 = np.array(res.getNearestPoint1()), np.array(res.getNearestPoint2())
-                out.append((d, k, p1, p2, np.array(res.normal)))
+                out.append((d, k, p1, p2, normal))
         out.sort(key=lambda e: e[0])
         return out
 

@@ -216,6 +216,9 @@ def rows(ws, n, dt, acc0):
     oMi, vj, aj, J, sup, v_pin = ws.oMi, ws.vj, ws.aj, ws.J, ws.sup, ws.v_pin
     C, lb, ub, seen = ws.C, ws.lb, ws.ub, ws.seen
     influence, safety, h, A = ws.settings[0], ws.settings[1], ws.settings[2], ws.settings[3]
+    ws.cycle[0] += 1
+    cycle = ws.cycle[0]
+    relax = A / max(h, dt) * dt
     C[:, :] = 0.0
     lb[:] = -np.inf
     ub[:] = np.inf
@@ -230,8 +233,8 @@ def rows(ws, n, dt, acc0):
             for e in range(9):
                 seen[k, at + 3 + e] = ws.oMg[g, e]
         d = res[k, 0]
-        if not d < limit[k]:
-            continue
+        if not (d < limit[k] and math.isfinite(res[k, 1] + res[k, 2] + res[k, 3])):
+            continue  # (a NaN: no row, as the reference)
         at = m  # the pairs within their limit, by distance (stable: as the reference)
         while at > 0 and res[order[at - 1], 0] > d:
             order[at] = order[at - 1]
@@ -259,7 +262,11 @@ def rows(ws, n, dt, acc0):
         if d < influence or room < h * closing + closing * abs(closing) / A:
             for c in range(row.shape[0]):
                 C[out, acc0 + c] = row[c]
-            lb[out] = -viable_upper(room, closing, A, dt, max(h, dt), False) - drift
+            bound = -viable_upper(room, closing, A, dt, max(h, dt), False) - drift
+            if ws.kept_cycle[k] == cycle - 1 and bound < ws.kept[k] - relax:
+                bound = min(ws.kept[k] - relax, A - drift)
+            lb[out] = bound
+            ws.kept[k], ws.kept_cycle[k] = bound, cycle
             ws.sel[out] = k
             ws.seld[out] = d
             out += 1
@@ -279,6 +286,9 @@ FIELDS = (
     # out: the pairs written and their distances; the constraint's settings and rows; the
     # distances computed and skipped (their last one, less the bodies' motion, beyond reach)
     'sel', 'seld', 'settings', 'C', 'lb', 'ub', 'counts',
+    # each pair's last bound and the cycle it was set in (bounds relax at A / horizon at most),
+    # and the cycle's count
+    'kept', 'kept_cycle', 'cycle',
 )
 
 
@@ -305,7 +315,11 @@ class CollisionKernels:
     @staticmethod
     def unavailable_reason(constraint) -> str | None:
         """Why the kernels cannot read this constraint's geometry (None: they can)."""
-        geom = constraint.geometry
+        geom, robot = constraint.geometry, constraint.robot
+        # placed first: coal's distance objects keep state from call to call, and a first call
+        # on a new GeometryData's unset placements left NaN in it (NaN rows after an obstacle's
+        # removal in test_ros_obstacles.py)
+        pin.updateGeometryPlacements(robot.model, robot.data, geom.geom_model, geom.geom_data)
         if placement_view(geom.geom_data, geom.geom_model.ngeoms) is None:
             return "Pinocchio's geometry placements are not laid out as the kernels read them"
         if len(geom.geom_model.collisionPairs) and result_view(geom.geom_model,
@@ -322,6 +336,7 @@ class CollisionKernels:
         model, data = robot.model, robot.data
         gm, gd = geom.geom_model, geom.geom_data
         ng, npairs = gm.ngeoms, len(gm.collisionPairs)
+        pin.updateGeometryPlacements(model, data, gm, gd)  # (see unavailable_reason)
         oMg = placement_view(gd, ng)
         res = result_view(gm, gd) if npairs else np.zeros((1, RES))
         views = data_views(model, data)
@@ -347,7 +362,7 @@ class CollisionKernels:
             np.zeros((ng, 3)), np.zeros(ng), np.zeros(size), np.zeros(size, dtype=np.int64),
             self.active, np.full((size, 25), np.nan), res,
             np.zeros(size, dtype=np.int64), np.zeros(model.nv), con._sel, con._seld,
-            con.settings, con.C, con.lb, con.ub, self.counts,
+            con.settings, con.C, con.lb, con.ub, self.counts, *con.kept_bounds(),
         )
         self._screen = entry(screen, self.ws)
         self._rows = entry(rows, self.ws, 0, 1e-3, 0)
