@@ -305,6 +305,12 @@ class CollisionWorkspace(structref.StructRefProxy):
 structref.define_proxy(CollisionWorkspace, CollisionWorkspaceType, list(FIELDS))
 
 
+@njit
+def _construct(*fields):
+    """Make the workspace in compiled code (cached on disk; see workspace.make_workspace)."""
+    return CollisionWorkspace(*fields)
+
+
 class CollisionKernels:
     """The kernels of one CollisionAvoidanceConstraint, on its geometry and the robot's Data."""
 
@@ -356,7 +362,7 @@ class CollisionKernels:
         size = max(1, npairs)
         self.counts = np.zeros(2, dtype=np.int64)  # distances computed, skipped (since bound)
         self.active = np.zeros((ng, ng), dtype=np.bool_)
-        self.ws = CollisionWorkspace(
+        self.ws = _construct(
             oMg, views[0], views[1], views[2], data.J, sup, robot._v_pin,
             np.array(geom._joint, dtype=np.int64), gsphere, geom.velocity, pairs, npairs,
             np.zeros((ng, 3)), np.zeros(ng), np.zeros(size), np.zeros(size, dtype=np.int64),
