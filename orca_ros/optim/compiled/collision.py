@@ -391,3 +391,19 @@ class CollisionKernels:
             gd.setActiveCollisionPairs(gm, self.active, True)
             pin.computeDistances(gm, gd)
         return self._rows(ws, n, dt, self._acc0)
+
+
+def attach_kernels(constraints, in_python: list, why: dict) -> None:
+    """Give the collision constraints updated in Python their kernels (distances stay coal's)."""
+    from ...constraint.collision_avoidance import CollisionAvoidanceConstraint  # noqa: PLC0415
+
+    for obj in constraints:
+        if isinstance(obj, CollisionAvoidanceConstraint):
+            obj.use_kernels(None)
+            if obj not in in_python or obj.geometry is None:
+                continue
+            reason = CollisionKernels.unavailable_reason(obj)
+            if reason is None:
+                obj.use_kernels(CollisionKernels(obj))
+                reason = 'its distances by coal; their screening and its rows by kernel'
+            why[obj.name] = reason

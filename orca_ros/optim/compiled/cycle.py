@@ -29,14 +29,13 @@ import time
 import numpy as np
 
 from . import cascade, contacts as ck, cycle_kernel, direct_daqp, fill, terms
-from .collision import CollisionKernels
+from .collision import attach_kernels
 from .lowering import lower, offset_in, Tables
 from .plan_assembly import PlanAssembly
 from .state_kernel import StateKernel
 from .workspace import make_workspace
 from ..solvers import QPSolver, ReturnCode
 from ...common.task_base import ActivationState
-from ...constraint.collision_avoidance import CollisionAvoidanceConstraint
 from ...constraint.contact import Contact
 from ...constraint.surface_wrench_contact import SurfaceContact
 from ...robot.state_input import _QUATERNION_TOL
@@ -68,7 +67,7 @@ class CompiledCycle:
                 self.in_python[obj.name] = why
             else:
                 self.lowered.append(low)
-        self._collision_kernels(controller)
+        attach_kernels(controller._constraints, self.python, self.in_python)
         self.tables = t = Tables(self.lowered, robot)
         for k, low in enumerate(self.lowered):
             low.bind(t, k, plan)
@@ -100,19 +99,6 @@ class CompiledCycle:
             self.dyn[1] = 0
             self._run_contacts(self.ws, 1e-3)
         self.compile_seconds = time.perf_counter() - start
-
-    def _collision_kernels(self, controller) -> None:
-        """Give the collision constraints their kernels (their distances stay coal's)."""
-        for obj in controller._constraints:
-            if isinstance(obj, CollisionAvoidanceConstraint):
-                obj.use_kernels(None)
-                if obj not in self.python or obj.geometry is None:
-                    continue
-                why = CollisionKernels.unavailable_reason(obj)
-                if why is None:
-                    obj.use_kernels(CollisionKernels(obj))
-                    why = 'its distances by coal; their screening and its rows by kernel'
-                self.in_python[obj.name] = why
 
     def _solve_in_kernel(self, controller) -> bool:
         """
