@@ -222,6 +222,18 @@ class CollisionAvoidanceConstraint(GenericConstraint):
                 self.geometry.add_obstacle(name, *args)
             self._pending = {}
 
+    def pair_limits(self, closing: np.ndarray) -> np.ndarray:
+        """
+        Return the distance under which each pair may need a row, from its closing-speed bound.
+
+        A pair has a row within the influence distance, or while it could not stop gently
+        before the safety distance: room < h c + c |c| / A at its closing speed c (see
+        _update_constraint_function); c is at most ``closing``.
+        """
+        h, A = self.horizon, self.max_deceleration
+        return np.maximum(self.influence_distance,
+                          self.safety_distance + h * closing + closing * closing / A)
+
     def _point(self, joint: int, p: np.ndarray):
         """(Jacobian 3 x nv, velocity, acceleration at nu_dot = 0) of a point fixed on a joint."""
         robot = self.robot
@@ -263,8 +275,7 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         lb.fill(-np.inf)
         ub.fill(np.inf)
         h, A = self.horizon, self.max_deceleration
-        pairs = geom.closest(robot.data, self.influence_distance,
-                             lambda s: h * s + s * s / (2.0 * A))
+        pairs = geom.closest(robot.data, self.pair_limits)
         rows = []
         for d, k, p1, p2, n in pairs:
             ja, jb = geom.joints_of(k)

@@ -24,7 +24,8 @@ link, added, moved and removed at run time.
 
 Per cycle :meth:`CollisionGeometry.closest` places the geometries from the joints' placements the
 controller's Pinocchio pass left in Data, discards the pairs whose bounding spheres are further
-apart than the influence distance, and runs coal's distance on the rest (Pinocchio's
+apart than they may matter (the influence distance, further for a pair closing fast:
+:meth:`CollisionGeometry.closing_bound`), and runs coal's distance on the rest (Pinocchio's
 ``computeDistance`` on the pair: 2.6 us on the Panda, where building coal's transforms and result
 in Python for ``coal.distance`` took 18 us): distance, witness points and the normal from the
 first body to the second. The compiled cycle screens the pairs and reads the results by kernel
@@ -82,6 +83,51 @@ def _bounding_sphere(geometry) -> tuple[np.ndarray, float]:
     return centre, float(np.linalg.norm(pts - centre, axis=1).max())
 
 
+def _points(geometry) -> np.ndarray | None:
+    """The vertices of a convex hull or a box (None for the round primitives)."""
+    if isinstance(geometry, coal.Box):
+        h = np.asarray(geometry.halfSide)
+        return np.array([[x, y, z] for x in (-h[0], h[0]) for y in (-h[1], h[1])
+                         for z in (-h[2], h[2])])
+    pts = np.asarray(geometry.points()) if hasattr(geometry, 'points') else None
+    return pts if pts is not None and len(pts) else None
+
+
+def _bounding_capsule(geometry) -> np.ndarray:
+    """
+    [end, end, radius] in the geometry's own frame: a capsule enclosing it.
+
+    A link is long and thin: its bounding sphere holds it loosely, a capsule closely. The axis is
+    the vertices' principal one, through the middle of their spread across it; the radius the
+    largest distance of a vertex from that axis; each end as far in as still covers every vertex
+    (a vertex at t along the axis and rho from it is inside when |t - end| <= sqrt(r^2 - rho^2)).
+    """
+    if isinstance(geometry, coal.Sphere):
+        return np.array([0.0] * 6 + [geometry.radius])
+    if isinstance(geometry, (coal.Cylinder, coal.Capsule)):
+        h = geometry.halfLength
+        return np.array([0.0, 0.0, -h, 0.0, 0.0, h, geometry.radius])
+    pts = _points(geometry)
+    if pts is None:  # another shape: its bounding sphere
+        centre, radius = _bounding_sphere(geometry)
+        return np.concatenate((centre, centre, [radius]))
+    mean = pts.mean(axis=0)
+    axes = np.linalg.eigh(np.cov((pts - mean).T))[1][:, ::-1]  # principal axis first
+    local = (pts - mean) @ axes
+    middle = 0.5 * (local.min(axis=0) + local.max(axis=0))
+    middle[0] = 0.0
+    local -= middle
+    rho2 = local[:, 1] ** 2 + local[:, 2] ** 2
+    r2 = float(rho2.max())
+    room = np.sqrt(np.maximum(r2 - rho2, 0.0))
+    lo, hi = float(np.max(local[:, 0] - room)), float(np.min(local[:, 0] + room))
+    if hi > lo:  # no segment inside: a sphere round its middle
+        lo = hi = 0.5 * (lo + hi)
+        r2 = float(np.max((local[:, 0] - lo) ** 2 + rho2))
+    ends = mean + (middle + np.outer([hi, lo], [1.0, 0.0, 0.0])) @ axes.T
+    return np.concatenate((ends[0], ends[1], [np.sqrt(r2)]))
+
+
 class CollisionGeometry:
     def __init__(self, robot, srdf: str | None = None, package_dirs=None, rounding: float = 0.01):
         """
@@ -136,11 +182,9 @@ class CollisionGeometry:
                    for c, r in (_bounding_sphere(g.geometry) for g in gm.geometryObjects)]
         self._centre = np.array([c for c, _ in spheres]).reshape(-1, 3)
         self._radius = np.array([r for _, r in spheres])
-        # how far from its joint's origin a point of each geometry may be (its speed bound)
-        self._lever = np.array([
-            np.linalg.norm(g.placement.act(c)) + r
-            for g, (c, r) in zip(gm.geometryObjects, spheres)
-        ])
+        self._capsule = np.array([_bounding_capsule(g.geometry) for g in gm.geometryObjects])
+        self._capsule = self._capsule.reshape(-1, 7)
+        self._capsule[:, 6] += self.rounding
         self._joint = [int(g.parentJoint) for g in gm.geometryObjects]
         cp = gm.collisionPairs
         self._first = np.array([p.first for p in cp], dtype=int)
@@ -217,14 +261,39 @@ class CollisionGeometry:
         return f.parentJoint, f.placement * placement
 
     # ------------------------------------------------------------------ distances
-    def closest(self, data, influence: float, reach=None):
+    def closing_bound(self, data, centres: np.ndarray) -> np.ndarray:
+        """
+        Return, per pair, a bound on how fast its distance can shrink (m/s).
+
+        With W = V_b - V_a the relative velocity field of the pair's bodies, the distance's rate
+        is n . (V_b(p2) - V_a(p1)) = n . W(p1) (the rest, w_b x (p2 - p1), is normal to n), and
+        W(p1) differs from W at the first body's centre by at most |w_b - w_a| times its radius
+        (likewise from the second's). Links moving together (a whole arm turning on its base)
+        have a small bound, though each moves fast. ``centres``: the geometries' sphere centres.
+        """
+        v = data.v
+        ng = len(self._joint)
+        vc, w = self.velocity.copy(), np.zeros((ng, 3))
+        for g, j in enumerate(self._joint):
+            if j:
+                M = data.oMi[j]
+                w[g] = M.rotation @ v[j].angular
+                vc[g] += M.rotation @ v[j].linear + np.cross(w[g], centres[g] - M.translation)
+        a, b = self._first, self._second
+        dw = np.linalg.norm(w[b] - w[a], axis=1)
+        at_a = vc[b] + np.cross(w[b], centres[a] - centres[b]) - vc[a]
+        at_b = vc[b] - vc[a] - np.cross(w[a], centres[b] - centres[a])
+        return np.minimum(np.linalg.norm(at_a, axis=1) + dw * self._radius[a],
+                          np.linalg.norm(at_b, axis=1) + dw * self._radius[b])
+
+    def closest(self, data, limit_of):
         """
         Return the pairs that may matter: [(distance, pair index, p1, p2, normal)], closest first.
 
-        Those closer than ``influence``, plus ``reach(speed)`` for the speed bound of each of the
-        pair's bodies (how far a body moving that fast must still be watched). From the joints'
-        placements and velocities in ``data`` (the controller's pass); witness points p1 on the
-        pair's first geometry, p2 on its second, the normal from the first to the second (world).
+        Those closer than ``limit_of(closing)``, of the bound on each pair's closing speed
+        (:meth:`closing_bound`). From the joints' placements and velocities in ``data`` (the
+        controller's pass); witness points p1 on the pair's first geometry, p2 on its second, the
+        normal from the first to the second (world).
         """
         gm, gd = self.geom_model, self.geom_data
         pin.updateGeometryPlacements(self.model, data, gm, gd)
@@ -232,15 +301,7 @@ class CollisionGeometry:
             return []
         oMg = gd.oMg
         centres = np.array([oMg[i].act(self._centre[i]) for i in range(gm.ngeoms)])
-        extra = np.zeros(gm.ngeoms)
-        if reach is not None:
-            v = data.v
-            speed = np.array([
-                np.linalg.norm(v[j].linear) + np.linalg.norm(v[j].angular) * lever if j else 0.0
-                for j, lever in zip(self._joint, self._lever)
-            ])
-            extra = reach(speed)
-        limit = influence + extra[self._first] + extra[self._second]
+        limit = limit_of(self.closing_bound(data, centres))
         gap = (np.linalg.norm(centres[self._first] - centres[self._second], axis=1)
                - self._radius[self._first] - self._radius[self._second])
         out = []

@@ -106,36 +106,37 @@ def screen(ws):
     """
     Keep the pairs that may come within reach; return how many (in ``cand``, marked in ``active``).
 
-    ``gsphere[g]`` = [centre in the geometry's frame (3), radius, lever]; a body moving at speed
-    s (its joint's linear speed plus angular speed times the lever) is watched h s + s^2 / 2A
-    further (the reference's ``reach``); ``limit[k]``: the distance under which pair k counts.
-    A pair is kept when its bounding spheres are closer than that, unless its last computed
-    distance ``seen[k, 0]``, less how far any point of either body has moved since (the centre's
-    displacement plus the radius times the rotation's change, ``seen[k, 1:]``), is still beyond it
-    (with SEEN_MARGIN): its distance now is then too, as the reference finds.
+    ``gsphere[g]`` = [centre in the geometry's frame (3), radius]; ``limit[k]``: the distance
+    under which pair k may need a row, from the bound on its closing speed (:func:`_closing`;
+    the reference's ``pair_limits``). A pair is kept when its bounding spheres are closer than
+    that, unless its last computed distance ``seen[k, 0]``, less how far any point of either
+    body has moved since (the centre's displacement plus the radius times the rotation's change,
+    ``seen[k, 1:]``), is still beyond it (with SEEN_MARGIN): its distance now is then too, as the
+    reference finds; and unless their bounding capsules (``gcaps[g]`` = [end, end, radius] in the
+    geometry's frame, ``segs`` its ends in the world) are: a link is held closely by a capsule,
+    loosely by a sphere.
     """
-    oMg, vj, gsphere, centres, extra = ws.oMg, ws.vj, ws.gsphere, ws.centres, ws.extra
+    oMg, gsphere, centres = ws.oMg, ws.gsphere, ws.centres
     pairs, limit, seen, active = ws.pairs, ws.limit, ws.seen, ws.active
-    influence, h, A = ws.settings[0], ws.settings[2], ws.settings[3]
+    gcaps, segs = ws.gcaps, ws.segs
+    influence, safety, h, A = ws.settings[0], ws.settings[1], ws.settings[2], ws.settings[3]
     for g in range(ws.gjoint.shape[0]):
         for r in range(3):
             s = oMg[g, 9 + r]
+            e0, e1 = s, s
             for c in range(3):
-                s += oMg[g, r + 3 * c] * gsphere[g, c]
-            centres[g, r] = s
-        j = ws.gjoint[g]
-        if j == 0:
-            extra[g] = 0.0
-        else:
-            lin = math.sqrt(vj[j, 0] ** 2 + vj[j, 1] ** 2 + vj[j, 2] ** 2)
-            ang = math.sqrt(vj[j, 3] ** 2 + vj[j, 4] ** 2 + vj[j, 5] ** 2)
-            s = lin + ang * gsphere[g, 4]
-            extra[g] = h * s + s * s / (2.0 * A)
+                R = oMg[g, r + 3 * c]
+                s += R * gsphere[g, c]
+                e0 += R * gcaps[g, c]
+                e1 += R * gcaps[g, 3 + c]
+            centres[g, r], segs[g, r], segs[g, 3 + r] = s, e0, e1
+        _field(ws, g)
     n = 0
     for k in range(ws.npairs):
         a, b = pairs[k, 0], pairs[k, 1]
         active[a, b] = False
-        limit[k] = influence + extra[a] + extra[b]
+        c = _closing(ws.gvc, centres, gsphere, a, b)
+        limit[k] = max(influence, safety + h * c + c * c / A)
         d2 = 0.0
         for r in range(3):
             d2 += (centres[a, r] - centres[b, r]) ** 2
@@ -145,6 +146,8 @@ def screen(ws):
                 - _moved(oMg, centres, gsphere, b, seen, k, 13) >= limit[k] + SEEN_MARGIN:
             ws.counts[1] += 1
             continue  # (False for a NaN distance)
+        if _segment_distance(segs, a, b) - gcaps[a, 6] - gcaps[b, 6] >= limit[k]:
+            continue
         active[a, b] = True
         ws.cand[n] = k
         n += 1
@@ -153,15 +156,96 @@ def screen(ws):
 
 
 @njit
+def _field(ws, g):
+    """Write geometry g's velocity field: its centre's velocity and its angular velocity (world)."""
+    gvc, oMi, vj, centres, gvel = ws.gvc, ws.oMi, ws.vj, ws.centres, ws.gvel
+    j = ws.gjoint[g]
+    for r in range(3):
+        gvc[g, r], gvc[g, 3 + r] = gvel[g, r], 0.0
+    if j == 0:
+        return
+    for r in range(3):  # R v (joint-local velocities; R column-major)
+        for c in range(3):
+            gvc[g, r] += oMi[j, r + 3 * c] * vj[j, c]
+            gvc[g, 3 + r] += oMi[j, r + 3 * c] * vj[j, 3 + c]
+    x0, x1, x2 = (centres[g, 0] - oMi[j, 9], centres[g, 1] - oMi[j, 10],
+                  centres[g, 2] - oMi[j, 11])
+    w0, w1, w2 = gvc[g, 3], gvc[g, 4], gvc[g, 5]
+    gvc[g, 0] += w1 * x2 - w2 * x1
+    gvc[g, 1] += w2 * x0 - w0 * x2
+    gvc[g, 2] += w0 * x1 - w1 * x0
+
+
+@njit
+def _closing(gvc, centres, gsphere, a, b):
+    """
+    Bound the speed at which pair (a, b)'s distance can shrink (the reference's closing_bound).
+
+    W = V_b - V_a, the bodies' relative velocity field: the rate is n . W(p1) and W(p1) is
+    within |w_b - w_a| r_a of W at a's centre (likewise at b's): the smaller of the two bounds.
+    """
+    dw0, dw1, dw2 = gvc[b, 3] - gvc[a, 3], gvc[b, 4] - gvc[a, 4], gvc[b, 5] - gvc[a, 5]
+    dw = math.sqrt(dw0 * dw0 + dw1 * dw1 + dw2 * dw2)
+    x0, x1, x2 = (centres[a, 0] - centres[b, 0], centres[a, 1] - centres[b, 1],
+                  centres[a, 2] - centres[b, 2])
+    # at a's centre: v_b + w_b x (c_a - c_b) - v_a; at b's: v_b - v_a + w_a x (c_a - c_b)
+    d0, d1, d2 = gvc[b, 0] - gvc[a, 0], gvc[b, 1] - gvc[a, 1], gvc[b, 2] - gvc[a, 2]
+    wb0, wb1, wb2 = gvc[b, 3], gvc[b, 4], gvc[b, 5]
+    wa0, wa1, wa2 = gvc[a, 3], gvc[a, 4], gvc[a, 5]
+    at_a = math.sqrt((d0 + wb1 * x2 - wb2 * x1) ** 2 + (d1 + wb2 * x0 - wb0 * x2) ** 2
+                     + (d2 + wb0 * x1 - wb1 * x0) ** 2) + dw * gsphere[a, 3]
+    at_b = math.sqrt((d0 + wa1 * x2 - wa2 * x1) ** 2 + (d1 + wa2 * x0 - wa0 * x2) ** 2
+                     + (d2 + wa0 * x1 - wa1 * x0) ** 2) + dw * gsphere[b, 3]
+    return min(at_a, at_b)
+
+
+@njit
 def _moved(oMg, centres, gsphere, g, seen, k, at):
-    """Bound on how far any point of geometry g moved since seen[k, at:at + 12] = [centre, R]."""
+    """
+    Bound on how far any point of geometry g moved since seen[k, at:at + 12] = [centre, R].
+
+    A point u from the centre moves by |(R1 - R0) u| <= |R1 - R0|_2 |u|, and for rotations
+    |R1 - R0|_2 = 2 sin(angle / 2) = |R1 - R0|_F / sqrt(2) (R0^T R1 - I is normal).
+    """
     dc = 0.0
     for r in range(3):
         dc += (centres[g, r] - seen[k, at + r]) ** 2
     dr = 0.0
     for i in range(9):
         dr += (oMg[g, i] - seen[k, at + 3 + i]) ** 2
-    return math.sqrt(dc) + gsphere[g, 3] * math.sqrt(dr)
+    return math.sqrt(dc) + gsphere[g, 3] * math.sqrt(0.5 * dr)
+
+
+@njit
+def _segment_distance(segs, a, b):
+    """The distance between segments a and b (segs[g] = [end, end], world; Ericson's method)."""
+    u0, u1, u2 = segs[a, 3] - segs[a, 0], segs[a, 4] - segs[a, 1], segs[a, 5] - segs[a, 2]
+    w0, w1, w2 = segs[b, 3] - segs[b, 0], segs[b, 4] - segs[b, 1], segs[b, 5] - segs[b, 2]
+    r0, r1, r2 = segs[a, 0] - segs[b, 0], segs[a, 1] - segs[b, 1], segs[a, 2] - segs[b, 2]
+    uu, ww = u0 * u0 + u1 * u1 + u2 * u2, w0 * w0 + w1 * w1 + w2 * w2
+    f = w0 * r0 + w1 * r1 + w2 * r2
+    s = t = 0.0
+    if uu <= 1e-18:  # a point
+        if ww > 1e-18:
+            t = min(max(f / ww, 0.0), 1.0)
+    else:
+        c = u0 * r0 + u1 * r1 + u2 * r2
+        if ww <= 1e-18:
+            s = min(max(-c / uu, 0.0), 1.0)
+        else:
+            uw = u0 * w0 + u1 * w1 + u2 * w2
+            den = uu * ww - uw * uw
+            if den > 0.0:  # (parallel: any s; 0)
+                s = min(max((uw * f - c * ww) / den, 0.0), 1.0)
+            t = (uw * s + f) / ww
+            if t < 0.0:
+                t = 0.0
+                s = min(max(-c / uu, 0.0), 1.0)
+            elif t > 1.0:
+                t = 1.0
+                s = min(max((uw - c) / uu, 0.0), 1.0)
+    return math.sqrt((r0 + u0 * s - w0 * t) ** 2 + (r1 + u1 * s - w1 * t) ** 2
+                     + (r2 + u2 * s - w2 * t) ** 2)
 
 
 @njit
@@ -277,12 +361,14 @@ FIELDS = (
     # Pinocchio: the geometries' placements (GeometryData), the joints' placements, velocities,
     # drifts and Jacobians (Data), the joints' supports, the velocity
     'oMg', 'oMi', 'vj', 'aj', 'J', 'sup', 'v_pin',
-    # the geometries: joint, bounding sphere [centre, radius, lever], velocity (moving obstacles);
+    # the geometries: joint, bounding sphere [centre, radius] and capsule [ends, radius], velocity
+    # (moving obstacles);
     # the pairs [first, second] and how many
-    'gjoint', 'gsphere', 'gvel', 'pairs', 'npairs',
-    # per cycle: sphere centres, reach, each pair's limit, the kept pairs (list and mask), what
-    # was last seen of each, coal's results, their order, one row
-    'centres', 'extra', 'limit', 'cand', 'active', 'seen', 'res', 'order', 'row',
+    'gjoint', 'gsphere', 'gcaps', 'gvel', 'pairs', 'npairs',
+    # per cycle: sphere centres and capsule ends, velocity fields [centre's, angular], each
+    # pair's limit, the kept pairs (list and mask), what was last seen of each, coal's results,
+    # their order, one row
+    'centres', 'segs', 'gvc', 'limit', 'cand', 'active', 'seen', 'res', 'order', 'row',
     # out: the pairs written and their distances; the constraint's settings and rows; the
     # distances computed and skipped (their last one, less the bodies' motion, beyond reach)
     'sel', 'seld', 'settings', 'C', 'lb', 'ub', 'counts',
@@ -355,8 +441,8 @@ class CollisionKernels:
                 if s > 0:
                     jm = model.joints[s]
                     sup[jt, jm.idx_v: jm.idx_v + jm.nv] = True
-        gsphere = np.zeros((ng, 5))
-        gsphere[:, :3], gsphere[:, 3], gsphere[:, 4] = geom._centre, geom._radius, geom._lever
+        gsphere = np.zeros((ng, 4))
+        gsphere[:, :3], gsphere[:, 3] = geom._centre, geom._radius
         pairs = np.zeros((max(1, npairs), 2), dtype=np.int64)
         pairs[:npairs, 0], pairs[:npairs, 1] = geom._first, geom._second
         size = max(1, npairs)
@@ -364,8 +450,8 @@ class CollisionKernels:
         self.active = np.zeros((ng, ng), dtype=np.bool_)
         self.ws = _construct(
             oMg, views[0], views[1], views[2], data.J, sup, robot._v_pin,
-            np.array(geom._joint, dtype=np.int64), gsphere, geom.velocity, pairs, npairs,
-            np.zeros((ng, 3)), np.zeros(ng), np.zeros(size), np.zeros(size, dtype=np.int64),
+            np.array(geom._joint, dtype=np.int64), gsphere, geom._capsule, geom.velocity, pairs,
+            npairs, np.zeros((ng, 3)), np.zeros((ng, 6)), np.zeros((ng, 6)), np.zeros(size), np.zeros(size, dtype=np.int64),
             self.active, np.full((size, 25), np.nan), res,
             np.zeros(size, dtype=np.int64), np.zeros(model.nv), con._sel, con._seld,
             con.settings, con.C, con.lb, con.ub, self.counts, *con.kept_bounds(),
