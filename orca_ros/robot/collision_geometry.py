@@ -83,6 +83,10 @@ def _bounding_sphere(geometry) -> tuple[np.ndarray, float]:
     return centre, float(np.linalg.norm(pts - centre, axis=1).max())
 
 
+def _flat(M: pin.SE3) -> np.ndarray:
+    return np.concatenate((M.rotation.reshape(-1, order='F'), M.translation))
+
+
 def _points(geometry) -> np.ndarray | None:
     """The vertices of a convex hull or a box (None for the round primitives)."""
     if isinstance(geometry, coal.Box):
@@ -191,6 +195,8 @@ class CollisionGeometry:
         self._second = np.array([p.second for p in cp], dtype=int)
         self._pairs = [(int(p.first), int(p.second)) for p in cp]  # Python ints: coal's indices
         self.velocity = np.zeros((gm.ngeoms, 3))  # each geometry's: a moving obstacle's, else 0
+        # each geometry's placement on its joint [R column-major, p] (the kernels place them)
+        self.placement = np.array([_flat(g.placement) for g in gm.geometryObjects]).reshape(-1, 12)
         for name, v in self.velocities.items():
             self.velocity[self.obstacles[name]] = v
         self.version += 1
@@ -233,6 +239,7 @@ class CollisionGeometry:
         if v is not None and not np.isfinite(v).all():
             raise ValueError(f"obstacle '{name}': velocity must be finite")
         obj.placement = placement
+        self.placement[self.obstacles[name]] = _flat(placement)
         if v is None:
             self.velocities.pop(name, None)
             self.velocity[self.obstacles[name]] = 0.0

@@ -104,7 +104,8 @@ def result_view(gm, gd):
 @njit
 def screen(ws):
     """
-    Keep the pairs that may come within reach; return how many (in ``cand``, marked in ``active``).
+    Keep the pairs that may come within reach; return how many (in ``cand``, marked in ``active``;
+    ``changed[0]``: whether the marks changed since the last cycle).
 
     ``gsphere[g]`` = [centre in the geometry's frame (3), radius]; ``limit[k]``: the distance
     under which pair k may need a row, from the bound on its closing speed (:func:`_closing`;
@@ -116,11 +117,12 @@ def screen(ws):
     geometry's frame, ``segs`` its ends in the world) are: a link is held closely by a capsule,
     loosely by a sphere.
     """
-    oMg, gsphere, centres = ws.oMg, ws.gsphere, ws.centres
+    oMg, gsphere, centres, gvc = ws.oMg, ws.gsphere, ws.centres, ws.gvc
     pairs, limit, seen, active = ws.pairs, ws.limit, ws.seen, ws.active
-    gcaps, segs = ws.gcaps, ws.segs
+    gcaps, segs, gjoint, oMi, vj, gvel = ws.gcaps, ws.segs, ws.gjoint, ws.oMi, ws.vj, ws.gvel
     influence, safety, h, A = ws.settings[0], ws.settings[1], ws.settings[2], ws.settings[3]
-    for g in range(ws.gjoint.shape[0]):
+    _place(oMg, oMi, ws.place, gjoint)
+    for g in range(gjoint.shape[0]):
         for r in range(3):
             s = oMg[g, 9 + r]
             e0, e1 = s, s
@@ -130,24 +132,49 @@ def screen(ws):
                 e0 += R * gcaps[g, c]
                 e1 += R * gcaps[g, 3 + c]
             centres[g, r], segs[g, r], segs[g, 3 + r] = s, e0, e1
-        _field(ws, g)
+        # the velocity field: the centre's velocity, the angular velocity (world)
+        j = gjoint[g]
+        if j == 0:
+            gvc[g, 0], gvc[g, 1], gvc[g, 2] = gvel[g, 0], gvel[g, 1], gvel[g, 2]
+            gvc[g, 3] = gvc[g, 4] = gvc[g, 5] = 0.0
+            continue
+        v0, v1, v2, w0, w1, w2 = vj[j, 0], vj[j, 1], vj[j, 2], vj[j, 3], vj[j, 4], vj[j, 5]
+        x0, x1, x2 = (centres[g, 0] - oMi[j, 9], centres[g, 1] - oMi[j, 10],
+                      centres[g, 2] - oMi[j, 11])
+        # R v, R w (joint-local velocities; R column-major), then + w x (centre - origin)
+        u0 = oMi[j, 0] * v0 + oMi[j, 3] * v1 + oMi[j, 6] * v2
+        u1 = oMi[j, 1] * v0 + oMi[j, 4] * v1 + oMi[j, 7] * v2
+        u2 = oMi[j, 2] * v0 + oMi[j, 5] * v1 + oMi[j, 8] * v2
+        o0 = oMi[j, 0] * w0 + oMi[j, 3] * w1 + oMi[j, 6] * w2
+        o1 = oMi[j, 1] * w0 + oMi[j, 4] * w1 + oMi[j, 7] * w2
+        o2 = oMi[j, 2] * w0 + oMi[j, 5] * w1 + oMi[j, 8] * w2
+        gvc[g, 0] = gvel[g, 0] + u0 + o1 * x2 - o2 * x1
+        gvc[g, 1] = gvel[g, 1] + u1 + o2 * x0 - o0 * x2
+        gvc[g, 2] = gvel[g, 2] + u2 + o0 * x1 - o1 * x0
+        gvc[g, 3], gvc[g, 4], gvc[g, 5] = o0, o1, o2
     n = 0
+    ws.changed[0] = 0
     for k in range(ws.npairs):
         a, b = pairs[k, 0], pairs[k, 1]
+        was = active[a, b]
         active[a, b] = False
-        c = _closing(ws.gvc, centres, gsphere, a, b)
+        c = _closing(gvc, centres, gsphere, a, b)
         limit[k] = max(influence, safety + h * c + c * c / A)
         d2 = 0.0
         for r in range(3):
             d2 += (centres[a, r] - centres[b, r]) ** 2
         if math.sqrt(d2) - gsphere[a, 3] - gsphere[b, 3] >= limit[k]:
+            ws.changed[0] |= was
             continue
         if seen[k, 0] - _moved(oMg, centres, gsphere, a, seen, k, 1) \
                 - _moved(oMg, centres, gsphere, b, seen, k, 13) >= limit[k] + SEEN_MARGIN:
             ws.counts[1] += 1
+            ws.changed[0] |= was
             continue  # (False for a NaN distance)
         if _segment_distance(segs, a, b) - gcaps[a, 6] - gcaps[b, 6] >= limit[k]:
+            ws.changed[0] |= was
             continue
+        ws.changed[0] |= not was
         active[a, b] = True
         ws.cand[n] = k
         n += 1
@@ -156,24 +183,19 @@ def screen(ws):
 
 
 @njit
-def _field(ws, g):
-    """Write geometry g's velocity field: its centre's velocity and its angular velocity (world)."""
-    gvc, oMi, vj, centres, gvel = ws.gvc, ws.oMi, ws.vj, ws.centres, ws.gvel
-    j = ws.gjoint[g]
-    for r in range(3):
-        gvc[g, r], gvc[g, 3 + r] = gvel[g, r], 0.0
-    if j == 0:
-        return
-    for r in range(3):  # R v (joint-local velocities; R column-major)
-        for c in range(3):
-            gvc[g, r] += oMi[j, r + 3 * c] * vj[j, c]
-            gvc[g, 3 + r] += oMi[j, r + 3 * c] * vj[j, 3 + c]
-    x0, x1, x2 = (centres[g, 0] - oMi[j, 9], centres[g, 1] - oMi[j, 10],
-                  centres[g, 2] - oMi[j, 11])
-    w0, w1, w2 = gvc[g, 3], gvc[g, 4], gvc[g, 5]
-    gvc[g, 0] += w1 * x2 - w2 * x1
-    gvc[g, 1] += w2 * x0 - w0 * x2
-    gvc[g, 2] += w0 * x1 - w1 * x0
+def _place(oMg, oMi, place, gjoint):
+    """Place the geometries: oMg = oMi[joint] * placement (Pinocchio's updateGeometryPlacements)."""
+    for g in range(gjoint.shape[0]):
+        j = gjoint[g]
+        for r in range(3):
+            t = oMi[j, 9 + r]
+            for c in range(3):
+                t += oMi[j, r + 3 * c] * place[g, 9 + c]
+                e = 0.0
+                for i in range(3):
+                    e += oMi[j, r + 3 * i] * place[g, i + 3 * c]
+                oMg[g, r + 3 * c] = e
+            oMg[g, 9 + r] = t
 
 
 @njit
@@ -361,14 +383,15 @@ FIELDS = (
     # Pinocchio: the geometries' placements (GeometryData), the joints' placements, velocities,
     # drifts and Jacobians (Data), the joints' supports, the velocity
     'oMg', 'oMi', 'vj', 'aj', 'J', 'sup', 'v_pin',
-    # the geometries: joint, bounding sphere [centre, radius] and capsule [ends, radius], velocity
-    # (moving obstacles);
+    # the geometries: joint, placement on it, bounding sphere [centre, radius] and capsule [ends,
+    # radius], velocity (moving obstacles);
     # the pairs [first, second] and how many
-    'gjoint', 'gsphere', 'gcaps', 'gvel', 'pairs', 'npairs',
+    'gjoint', 'place', 'gsphere', 'gcaps', 'gvel', 'pairs', 'npairs',
     # per cycle: sphere centres and capsule ends, velocity fields [centre's, angular], each
     # pair's limit, the kept pairs (list and mask), what was last seen of each, coal's results,
     # their order, one row
-    'centres', 'segs', 'gvc', 'limit', 'cand', 'active', 'seen', 'res', 'order', 'row',
+    'centres', 'segs', 'gvc', 'limit', 'cand', 'active', 'changed', 'seen', 'res', 'order',
+    'row',
     # out: the pairs written and their distances; the constraint's settings and rows; the
     # distances computed and skipped (their last one, less the bodies' motion, beyond reach)
     'sel', 'seld', 'settings', 'C', 'lb', 'ub', 'counts',
@@ -447,12 +470,14 @@ class CollisionKernels:
         pairs[:npairs, 0], pairs[:npairs, 1] = geom._first, geom._second
         size = max(1, npairs)
         self.counts = np.zeros(2, dtype=np.int64)  # distances computed, skipped (since bound)
-        self.active = np.zeros((ng, ng), dtype=np.bool_)
+        # the pairs coal computes: none until screened (then those that changed, when they do)
+        self.active, self.changed = np.zeros((ng, ng), dtype=np.bool_), np.zeros(1, np.bool_)
+        gd.deactivateAllCollisionPairs()
         self.ws = _construct(
             oMg, views[0], views[1], views[2], data.J, sup, robot._v_pin,
-            np.array(geom._joint, dtype=np.int64), gsphere, geom._capsule, geom.velocity, pairs,
+            np.array(geom._joint, dtype=np.int64), geom.placement, gsphere, geom._capsule, geom.velocity, pairs,
             npairs, np.zeros((ng, 3)), np.zeros((ng, 6)), np.zeros((ng, 6)), np.zeros(size), np.zeros(size, dtype=np.int64),
-            self.active, np.full((size, 25), np.nan), res,
+            self.active, self.changed, np.full((size, 25), np.nan), res,
             np.zeros(size, dtype=np.int64), np.zeros(model.nv), con._sel, con._seld,
             con.settings, con.C, con.lb, con.ub, self.counts, *con.kept_bounds(),
         )
@@ -469,12 +494,12 @@ class CollisionKernels:
         if (geom.version != bound[0] or robot.data is not bound[1] or con.C is not bound[2]
                 or con._sel is not bound[3]):
             self._bind()
-        gm, gd = geom.geom_model, geom.geom_data
-        pin.updateGeometryPlacements(robot.model, robot.data, gm, gd)
         ws = self.ws
-        n = self._screen(ws)
+        n = self._screen(ws)  # (the geometries placed too)
         if n:  # the kept pairs' distances, in one call
-            gd.setActiveCollisionPairs(gm, self.active, True)
+            gm, gd = geom.geom_model, geom.geom_data
+            if self.changed[0]:
+                gd.setActiveCollisionPairs(gm, self.active, True)
             pin.computeDistances(gm, gd)
         return self._rows(ws, n, dt, self._acc0)
 
