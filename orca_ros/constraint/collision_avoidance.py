@@ -46,6 +46,7 @@ import numpy as np
 import pinocchio as pin
 
 from .generic_constraint import GenericConstraint
+from ..common.task_base import ActivationState
 from .viable_bound import ViableBound
 from ..robot.collision_geometry import CollisionGeometry, make_shape
 from ..utils.logger import get_logger
@@ -90,7 +91,9 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         self._moving: dict = {}  # name -> (pose, velocity, time of the pose): moved each cycle
         self._kernels = None  # the compiled cycle's (optim/compiled/collision.py), if any
         self._leaving: list = []  # (row, bound) of removed obstacles' pairs, relaxing away
-        self._m = 0  # rows written in the last cycle: pairs _sel[:_m] at distances _seld[:_m]
+        # rows written in the last cycle: pairs _sel[:_m] at distances _seld[:_m] (an array: an
+        # attribute set every cycle would tell the compiled cycle the constraint changed)
+        self._written = np.zeros(1, dtype=np.int64)
         self._sel, self._seld = np.zeros(0, dtype=np.int64), np.zeros(0)
 
     influence_distance = property(lambda self: float(self.settings[0]),
@@ -108,6 +111,30 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         geom = self.geometry
         return [(*geom.names_of(int(k)), float(d))
                 for k, d in zip(self._sel[:self._m], self._seld[:self._m])]
+
+    _m = property(lambda self: int(self._written[0]))
+
+    def update(self, current_time: float, dt: float) -> None:
+        """Recompute the rows: by the kernels straight away in the steady state."""
+        if (self._kernels is not None and self.state is ActivationState.ACTIVATED
+                and self._cb_begin is None and self._cb_end is None and not self._moving):
+            self.robot._update_terms()  # (the compiled cycle's pass: nothing to do)
+            if self._by_kernels(dt):
+                return
+        super().update(current_time, dt)
+
+    def _by_kernels(self, dt: float) -> bool:
+        """Fill the rows by the kernels (the robot's terms are this state's); False: they failed."""
+        try:
+            m = self._written[0] = self._kernels.update(dt)
+        except RuntimeError as exc:  # views no longer laid out as read: Python from now on
+            _LOG.error("constraint '%s': %s; its rows are computed in Python from now on",
+                       self.name, exc)
+            self._kernels = None
+            return False
+        if self._leaving:
+            self._leave(m, dt)
+        return True
 
     def use_kernels(self, kernels) -> None:
         """Fill the rows by ``kernels`` (the compiled cycle's), or in Python again (None)."""
@@ -209,7 +236,8 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         super().resize(layout)
         m = self.max_pairs
         self._room, self._vel, self._out = np.zeros(m), np.zeros(m), np.zeros(m)
-        self._sel, self._seld, self._m = np.zeros(m, dtype=np.int64), np.zeros(m), 0
+        self._sel, self._seld = np.zeros(m, dtype=np.int64), np.zeros(m)
+        self._written[0] = 0
         # per pair: its last bound, and the cycle it was set in (see _update_constraint_function)
         self._kept_version, self._cycle = None, np.zeros(1, dtype=np.int64)
         self._kept_names: list = []
@@ -260,16 +288,8 @@ class CollisionAvoidanceConstraint(GenericConstraint):
             moved = pose.copy()
             moved[:3, 3] += velocity * min(max(current_time - at, 0.0), EXTRAPOLATION)
             geom.move_obstacle(name, moved, None, velocity)
-        if self._kernels is not None:
-            try:
-                self._m = self._kernels.update(dt)
-                if self._leaving:
-                    self._leave(self._m, dt)
-                return
-            except RuntimeError as exc:  # views no longer laid out as read: Python from now on
-                _LOG.error("constraint '%s': %s; its rows are computed in Python from now on",
-                           self.name, exc)
-                self._kernels = None
+        if self._kernels is not None and self._by_kernels(dt):
+            return
         C, lb, ub = self.C, self.lb, self.ub
         C.fill(0.0)
         lb.fill(-np.inf)
@@ -295,7 +315,7 @@ class CollisionAvoidanceConstraint(GenericConstraint):
                 rows.append((room, closing, n @ (Jb - Ja), float(n @ (ab - aa)), k, d))
             if len(rows) == self.max_pairs:
                 break
-        self._m = len(rows)
+        self._written[0] = len(rows)
         for i, r in enumerate(rows):
             self._sel[i], self._seld[i] = r[4], r[5]
         self.kept_bounds()
