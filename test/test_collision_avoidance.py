@@ -227,7 +227,9 @@ def test_the_hand_goes_round_a_ball_on_its_path(example_robot_urdf, tmp_path, py
     assert step < 3.5, f'{step:.2f} Nm in one cycle'
 
 
-def test_pairs_entering_and_leaving_step_the_torques_by_at_most_2_nm(example_robot_urdf):
+@pytest.mark.parametrize('pybullet', [False, True], ids=['rigid_model', 'pybullet'])
+def test_pairs_entering_and_leaving_step_the_torques_by_at_most_2_nm(example_robot_urdf,
+                                                                     tmp_path, pybullet):
     """
     Round the ball: what each pair entering or leaving the rows does to the torques (issue 21).
 
@@ -268,7 +270,7 @@ def test_pairs_entering_and_leaving_step_the_torques_by_at_most_2_nm(example_rob
         redo()  # the cycle as it was: nothing of the second solve is left in the run
         replayed.append(float(np.abs(c.get_joint_torque_command() - tau).max()))
 
-    least, failures, error, step = _ball_run(example_robot_urdf, True, each=each)
+    least, failures, error, step = _ball_run(example_robot_urdf, True, pybullet, tmp_path, each)
     print(f'{len(effects)} cycles with pairs entering: largest step from them '
           f'{max(effects):.3f} Nm; {len(leaving)} pairs left, least slack of their last row '
           f'{min(leaving):.3f} m/s^2; the run\'s largest step {step:.2f} Nm')
