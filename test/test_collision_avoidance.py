@@ -273,7 +273,7 @@ def test_pairs_entering_and_leaving_step_the_torques_by_at_most_2_nm(example_rob
     least, failures, error, step = _ball_run(example_robot_urdf, True, pybullet, tmp_path, each)
     print(f'{len(effects)} cycles with pairs entering: largest step from them '
           f'{max(effects):.3f} Nm; {len(leaving)} pairs left, least slack of their last row '
-          f'{min(leaving):.3f} m/s^2; the run\'s largest step {step:.2f} Nm')
+          f'{min(leaving):.3f} m/s^2; largest step of the run {step:.2f} Nm')
     assert least >= SAFETY - 1e-3 and failures == 0 and error < 1e-3
     assert len(effects) > 5 and len(leaving) > 5  # pairs did come and go
     assert max(replayed) < 1e-9

@@ -46,8 +46,8 @@ import numpy as np
 import pinocchio as pin
 
 from .generic_constraint import GenericConstraint
-from ..common.task_base import ActivationState
 from .viable_bound import ViableBound
+from ..common.task_base import ActivationState
 from ..robot.collision_geometry import CollisionGeometry, make_shape
 from ..utils.logger import get_logger
 
@@ -124,7 +124,7 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         super().update(current_time, dt)
 
     def _by_kernels(self, dt: float) -> bool:
-        """Fill the rows by the kernels (the robot's terms are this state's); False: they failed."""
+        """Fill the rows by the kernels (the robot's terms are this state's); False: failed."""
         try:
             m = self._written[0] = self._kernels.update(dt)
         except RuntimeError as exc:  # views no longer laid out as read: Python from now on

@@ -88,7 +88,7 @@ def _flat(M: pin.SE3) -> np.ndarray:
 
 
 def _points(geometry) -> np.ndarray | None:
-    """The vertices of a convex hull or a box (None for the round primitives)."""
+    """Return the vertices of a convex hull or a box (None for the round primitives)."""
     if isinstance(geometry, coal.Box):
         h = np.asarray(geometry.halfSide)
         return np.array([[x, y, z] for x in (-h[0], h[0]) for y in (-h[1], h[1])

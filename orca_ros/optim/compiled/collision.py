@@ -104,8 +104,10 @@ def result_view(gm, gd):
 @njit
 def screen(ws):
     """
-    Keep the pairs that may come within reach; return how many (in ``cand``, marked in ``active``;
-    ``changed[0]``: whether the marks changed since the last cycle).
+    Keep the pairs that may come within reach; return how many.
+
+    They are listed in ``cand`` and marked in ``active``; ``changed[0]``: whether the marks
+    changed since the last cycle.
 
     ``gsphere[g]`` = [centre in the geometry's frame (3), radius]; ``limit[k]``: the distance
     under which pair k may need a row, from the bound on its closing speed (:func:`_closing`;
@@ -184,7 +186,7 @@ def screen(ws):
 
 @njit
 def _place(oMg, oMi, place, gjoint):
-    """Place the geometries: oMg = oMi[joint] * placement (Pinocchio's updateGeometryPlacements)."""
+    """Place the geometries: oMg = oMi[joint] * placement (as updateGeometryPlacements)."""
     for g in range(gjoint.shape[0]):
         j = gjoint[g]
         for r in range(3):
@@ -240,7 +242,7 @@ def _moved(oMg, centres, gsphere, g, seen, k, at):
 
 @njit
 def _segment_distance(segs, a, b):
-    """The distance between segments a and b (segs[g] = [end, end], world; Ericson's method)."""
+    """Return the distance between segments a and b (segs[g] = [end, end], world; Ericson's)."""
     u0, u1, u2 = segs[a, 3] - segs[a, 0], segs[a, 4] - segs[a, 1], segs[a, 5] - segs[a, 2]
     w0, w1, w2 = segs[b, 3] - segs[b, 0], segs[b, 4] - segs[b, 1], segs[b, 5] - segs[b, 2]
     r0, r1, r2 = segs[a, 0] - segs[b, 0], segs[a, 1] - segs[b, 1], segs[a, 2] - segs[b, 2]
@@ -475,8 +477,9 @@ class CollisionKernels:
         gd.deactivateAllCollisionPairs()
         self.ws = _construct(
             oMg, views[0], views[1], views[2], data.J, sup, robot._v_pin,
-            np.array(geom._joint, dtype=np.int64), geom.placement, gsphere, geom._capsule, geom.velocity, pairs,
-            npairs, np.zeros((ng, 3)), np.zeros((ng, 6)), np.zeros((ng, 6)), np.zeros(size), np.zeros(size, dtype=np.int64),
+            np.array(geom._joint, dtype=np.int64), geom.placement, gsphere, geom._capsule,
+            geom.velocity, pairs, npairs, np.zeros((ng, 3)), np.zeros((ng, 6)),
+            np.zeros((ng, 6)), np.zeros(size), np.zeros(size, dtype=np.int64),
             self.active, self.changed, np.full((size, 25), np.nan), res,
             np.zeros(size, dtype=np.int64), np.zeros(model.nv), con._sel, con._seld,
             con.settings, con.C, con.lb, con.ub, self.counts, *con.kept_bounds(),
