@@ -73,6 +73,24 @@ def test_the_core_example_runs(monkeypatch, tmp_path):
     exec(compile(code_block_after('## The core in Python'), 'README.md', 'exec'), {})
 
 
+def test_the_collision_picture_command_shows_what_the_readme_says(tmp_path):
+    """`python -m orca_ros.examples.round_the_ball`: 20 mm kept round the ball; through without."""
+    from orca_ros.examples import round_the_ball
+
+    with open(os.path.join(ROOT, 'README.md')) as fh:
+        text = fh.read()
+    assert '`python -m orca_ros.examples.round_the_ball`' in text
+    assert 'it keeps 20 mm between its rounded hulls' in text
+    assert os.path.exists(os.path.join(ROOT, 'docs', 'images', 'round_the_ball.png'))
+    runs = {flag: round_the_ball.run(flag) for flag in (False, True)}
+    with_, without = runs[True], runs[False]
+    assert abs(with_['distance'].min() - 0.02) < 1e-3 and with_['failures'] == 0
+    assert np.linalg.norm(with_['hand'][-1] - with_['reference'][-1]) < 1e-3
+    assert without['distance'].min() < -0.05  # through the ball
+    round_the_ball.draw(runs, str(tmp_path / 'picture.png'), 0.02)
+    assert (tmp_path / 'picture.png').stat().st_size > 10_000
+
+
 def _message(type_name: str, fields: dict):
     """Make a ROS message or service request of ``pkg/msg/Name`` from a dict, as ros2cli does."""
     pkg, kind, name = type_name.split('/')
