@@ -243,13 +243,17 @@ def test_log3_is_pinocchios():
 @pytest.mark.parametrize('strategy', STRATEGIES)
 def test_compiled_equals_reference_on_talos(talos_standing, strategy):
     """
-    Floating base, two soles, CoM and posture tasks, torque limits: 500 random states.
+    Floating base, two soles, CoM, momentum and posture tasks, torque limits: 500 random states.
 
     With strict levels over contacts the QP amplifies rounding: a third controller, the
-    reference path fed the velocities perturbed by 1e-15 (relative), measures how much. Measured
-    (torques, relative): weighted 4e-11, strict 1.3e-9, generalized 6.4e-8, against compiled vs
-    reference 9e-11 / 9.1e-9 / 9.1e-9. The bound is 1e-9 or, where the reference itself moves
-    more under rounding, ten times its own move.
+    reference path fed the joint positions and the velocities perturbed by 1e-15 (relative),
+    measures how much. The bound is 1e-9 or, where the reference itself moves more under
+    rounding, ten times its own move. Measured (torques, relative; this test's print): compiled
+    vs reference 6.7e-10 / 1.3e-9 / 1.0e-9 (weighted, strict, generalized), the reference's own
+    move 4.1e-10 / 1.7e-8 / 1.9e-8. The momentum task's rows are equal to the bit (its terms are
+    the robot's CentroidalMomentum's on both paths). With the velocities alone perturbed, the
+    reference moved 8.1e-11 in the generalized case, less than the levels' rounding it has to
+    measure (1.0e-9 here, 9.1e-9 before the momentum task).
     """
     from test_talos_balance import CORNERS, SOLES
 
@@ -267,15 +271,19 @@ def test_compiled_equals_reference_on_talos(talos_standing, strategy):
             c.add_constraint(orca.SurfaceContact(f, f, CORNERS, friction_coefficient=0.3))
         com = c.add_task(orca.CoMTask, 'com')
         com.pid().set_integral_gain([2.0, 0.0, 1.0])
+        mom = c.add_task(orca.MomentumTask, 'momentum')  # the common use: angular, weighted low
+        mom.set_selection_vector([0.0, 0.0, 0.0, 1.0, 1.0, 1.0])
+        mom.set_weight(0.1)
+        mom.pid().set_integral_gain([1.0, 1.0, 1.0, 0.5, 0.0, 0.0])
         post = c.add_task(orca.JointAccelerationTask, 'posture', level=1)
         post.set_weight(1e-3)
         c.add_constraint(orca.JointTorqueLimitConstraint, 'torque')
         if strategy == 'generalized_half':
             _half_priorities(c)
         c.activate_tasks_and_constraints()
-        pair.append((robot, c, com, post))
+        pair.append((robot, c, com, post, mom))
     model = pair[0][0].model
-    rng = np.random.default_rng(11)
+    rng, rounding = np.random.default_rng(11), np.random.default_rng(12)
     worst, own, solved = 0.0, 0.0, 0
     com_target = None
     for k in range(500):
@@ -284,17 +292,21 @@ def test_compiled_equals_reference_on_talos(talos_standing, strategy):
         q[7:] += rng.normal(0.0, 0.05, model.nq - 7)
         v = rng.normal(0.0, 0.2, model.nv)
         v_rounded = v * (1.0 + 1e-15 * rng.normal(size=v.size))
+        q_rounded = q.copy()  # (its own generator: the states are the same with it or without)
+        q_rounded[7:] *= 1.0 + 1e-15 * rounding.normal(size=model.nq - 7)
         if com_target is None:
             com_target = pair[0][0].get_center_of_mass()
         ref = com_target + rng.normal(0.0, 0.02, 3)
-        for i, (robot, c, com, post) in enumerate(pair):
-            robot.set_configuration(q, v_rounded if i == 2 else v)
+        h_ref = rng.normal(0.0, 1.0, 6)
+        for i, (robot, c, com, post, mom) in enumerate(pair):
+            robot.set_configuration(*((q_rounded, v_rounded) if i == 2 else (q, v)))
             com.set_desired(ref)
             post.set_desired(q0[7:])
+            mom.set_desired(h_ref)
             ok = c.update(k * 1e-3, 1e-3)
         if k == 0:
             cycle = pair[0][1].compiled_cycle
-            assert {'com', 'posture', 'torque', 'GlobalRegularisation'} <= {
+            assert {'com', 'momentum', 'posture', 'torque', 'GlobalRegularisation'} <= {
                 low.obj.name for low in cycle.lowered
             }, cycle.describe()
         assert pair[0][1].solution_found() == pair[1][1].solution_found()
@@ -306,6 +318,10 @@ def test_compiled_equals_reference_on_talos(talos_standing, strategy):
             own = max(own, np.abs(t3 - t2).max() / scale)
             np.testing.assert_allclose(pair[0][2].E, pair[1][2].E, rtol=0, atol=1e-12)
             np.testing.assert_allclose(pair[0][2].f, pair[1][2].f, rtol=0, atol=1e-10)
+            np.testing.assert_allclose(pair[0][4].E, pair[1][4].E, rtol=0, atol=1e-12)
+            np.testing.assert_allclose(pair[0][4].f, pair[1][4].f, rtol=0, atol=1e-10)
+            np.testing.assert_allclose(pair[0][4].get_momentum_error(),
+                                       pair[1][4].get_momentum_error(), rtol=0, atol=1e-10)
     assert solved > 450, solved
     print(f'{strategy}: compiled vs reference {worst:.1e}, reference vs itself rounded {own:.1e}')
     assert worst <= max(1e-9, 10.0 * own), f'torques differ by {worst:.2e}, rounding {own:.1e}'

@@ -38,6 +38,7 @@ from ..solvers import QPSolver, ReturnCode
 from ...common.task_base import ActivationState
 from ...constraint.contact import Contact
 from ...constraint.surface_wrench_contact import SurfaceContact
+from ...robot.centroidal_momentum import CentroidalMomentum
 from ...robot.state_input import _QUATERNION_TOL
 from ...utils.jit import entry
 from ...utils.logger import get_logger
@@ -253,6 +254,14 @@ class CompiledCycle:
             and not any(low.kind == fill.COM for low in self.lowered)
             and terms.matches(robot.model, lambda data: fill.data_views(robot.model, data))
         )
+        # momentum tasks: the robot's centroidal terms (dccrba), each cycle
+        self._centroidal = None
+        cm_terms = np.zeros((6, robot.model.nv)), np.zeros(6), np.zeros(6)
+        if any(low.kind == fill.MOM for low in self.lowered):
+            if robot._centroidal is None:
+                robot._centroidal = CentroidalMomentum(robot)
+            self._centroidal = cm = robot._centroidal
+            cm_terms = cm._Ag, cm._h, cm._drift
         if robot._state_kernel is None:  # a new robot model (a re-weld) comes without it
             robot._state_kernel = StateKernel(robot, _QUATERNION_TOL)
         t.set_bodies(robot.model)
@@ -269,6 +278,7 @@ class CompiledCycle:
             v_pin=robot._v_pin, T=T, t0=t0, cart=t.cart, cart_sup=t.cart_sup, jrec=t.jrec,
             lims=t.lims, pacc=t.pacc, tab=t.tab, par=t.par, tmp=t.tmp,
             com=d.com[0], vcom=d.vcom[0], Jcom=d.Jcom, body=t.body, crec=t.crec,
+            Ag=cm_terms[0], hg=cm_terms[1], dhg=cm_terms[2], mrec=t.mrec,
             M_pin=d.M, nle=d.nle, Wj=self.Wj, ct_tab=self.ct_tab, ct_par=self.ct_par,
             ct_faces=self.ct_faces,
             ct_sup=self.ct_sup, dyn=self.dyn, ct_ws=self.ct_ws, ct_last=self.ct_last,
@@ -305,6 +315,8 @@ class CompiledCycle:
             self._pinocchio()
         for obj in self.python:
             obj.update(t, dt)
+        if self._centroidal is not None:  # the momentum tasks' terms (cached per state)
+            self._centroidal.terms()
         full = full or watch.touched
         if full:  # else no object changed: nothing to re-read
             for low in self.lowered:

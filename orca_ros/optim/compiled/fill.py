@@ -27,10 +27,10 @@ import ctypes
 
 import numpy as np
 
-from .kernels import cartesian_rows, com_rows, joint_rows, position_box
+from .kernels import cartesian_rows, com_rows, joint_rows, momentum_rows, position_box
 from ...utils.jit import njit
 
-CART, JOINT, REG, TORQUE, POSITION, VELOCITY, ACCELERATION, COM = range(8)
+CART, JOINT, REG, TORQUE, POSITION, VELOCITY, ACCELERATION, COM, MOM = range(9)
 TAB = 5  # columns of tab
 
 
@@ -72,7 +72,8 @@ def data_views(model, data):
 
 @njit
 def fill(dt, J, oMi, vj, aj, q, v, v_pin, T, t0, E, f, dg_f, M, lo, hi, nx, box_lb, box_ub,
-         cart, cart_sup, jrec, lims, pacc, tab, par, tmp, com, vcom, Jcom, body, crec):
+         cart, cart_sup, jrec, lims, pacc, tab, par, tmp, com, vcom, Jcom, body, crec, Ag, hg,
+         dhg, mrec):
     """Fill the rows of every lowered object that computes (``tab[k, 1]``)."""
     for k in range(tab.shape[0]):
         if tab[k, 1] == 0:
@@ -106,6 +107,8 @@ def fill(dt, J, oMi, vj, aj, q, v, v_pin, T, t0, E, f, dg_f, M, lo, hi, nx, box_
                 box_ub[b, i] = (lims[a, 1, i] - v[i]) * (1.0 / h)
         elif kind == COM:
             com_rows(crec[a], com, vcom, Jcom, oMi, vj, aj, body, E, f, b, dt, tmp)
+        elif kind == MOM:
+            momentum_rows(mrec[a], Ag, hg, dhg, par[k, 0], E, f, b, dt, tmp)
         elif kind == ACCELERATION:
             for i in range(q.shape[0]):
                 box_lb[b, i] = lims[a, 0, i]

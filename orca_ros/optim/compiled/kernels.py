@@ -43,6 +43,10 @@ JOINT_BLOCKS = 10
 C_P_REF, C_V_REF, C_A_REF, C_KP, C_KI, C_KD, C_WINDUP, C_INTEGRAL, C_ERR = range(9)
 COM_SIZE = 27
 
+# the per-task float record of a momentum task (blocks of 6)
+M_H_REF, M_HD_REF, M_KP, M_KI, M_KD, M_WINDUP, M_INTEGRAL, M_ERR = range(8)
+MOM_SIZE = 48
+
 _FAR = 1e6  # as viable_bound._FAR
 MARGIN_SHARE = 0.5  # as viable_bound._MARGIN_SHARE
 
@@ -325,3 +329,24 @@ def com_rows(rec, com, vcom, Jcom, oMi, vj, aj, body, E, f, row, dt, tmp):
         f[row + i] = (rec[C_A_REF * 3 + i] + cmd[i]) - bias[i]
         for c in range(Jcom.shape[1]):
             E[row + i, c] = Jcom[i, c]
+
+
+@njit
+def momentum_rows(rec, Ag, h, drift, inv_m, E, f, row, dt, tmp):
+    """
+    One momentum task: E[row:row+6] = A_g / m, f = (h_dot_ref + PI(h_ref - h) - A_g_dot nu) / m.
+
+    h = A_g nu, A_g and the drift A_g_dot nu: the robot's CentroidalMomentum terms of this state
+    (Pinocchio's dccrba; the reference path's very numbers). MomentumTask's maths.
+    """
+    err = rec[M_ERR * 6: M_ERR * 6 + 6]
+    derr, cmd = tmp[0:6], tmp[6:12]
+    for i in range(6):
+        err[i] = rec[M_H_REF * 6 + i] - h[i]
+        derr[i] = 0.0  # (no derivative term: the momentum's rate is not measured)
+    pid_command(rec, M_KP * 6, M_KI * 6, M_KD * 6, M_WINDUP * 6, M_INTEGRAL * 6, err, derr, 6,
+                dt, cmd)
+    for i in range(6):
+        f[row + i] = ((rec[M_HD_REF * 6 + i] + cmd[i]) - drift[i]) * inv_m
+        for c in range(Ag.shape[1]):
+            E[row + i, c] = Ag[i, c] * inv_m

@@ -19,14 +19,15 @@ A lowered object's parameters and state live in one float record; the object's o
 Python API (``set_desired``, ``pid().set_proportional_gain``, ``get_cartesian_pose_error``…) reads
 and writes what the kernels use, with no copy per cycle. Its rows are the plan's (the same views
 the reference path writes through). Every cycle the kernels fill the lowered objects' rows; the
-objects the kernels do not know yet (contacts, CoM, wrench and torque tasks, balance, Cartesian
+objects the kernels do not know yet (contacts, wrench and torque tasks, balance, Cartesian
 tasks in a moving base frame, anything with compute callbacks) run their Python update, in the
 same order, into the same arrays: the solve that follows is the reference path's.
 
-Lowered so far: CartesianTask (static base frame), JointAccelerationTask, the regularisation,
-torque / position (viable) / velocity / acceleration limits. Each lowered object owns one row of
-the fill kernel's table (:mod:`.fill`); :meth:`_Lowered.step` runs its life cycle and refreshes
-what the Python API may have replaced (a new servo, new limits) before the kernel runs.
+Lowered so far: CartesianTask (static base frame), JointAccelerationTask, CoMTask, MomentumTask,
+the regularisation, torque / position (viable) / velocity / acceleration limits. Each lowered
+object owns one row of the fill kernel's table (:mod:`.fill`); :meth:`_Lowered.step` runs its life
+cycle and refreshes what the Python API may have replaced (a new servo, new limits) before the
+kernel runs.
 """
 
 from __future__ import annotations
@@ -45,6 +46,7 @@ from ...constraint.joint_limit_constraints import (
 from ...task.cartesian_task import CartesianTask
 from ...task.com_task import CoMTask
 from ...task.joint_acceleration_task import JointAccelerationTask
+from ...task.momentum_task import MomentumTask
 from ...task.regularisation_task import RegularisationTask
 
 _INACTIVE = (ActivationState.INIT, ActivationState.DEACTIVATED)
@@ -72,7 +74,7 @@ class Tables:
 
     def __init__(self, lowered, robot):
         n, nv = robot.get_nr_of_degrees_of_freedom(), robot.model.nv
-        count = {kind: sum(low.kind == kind for low in lowered) for kind in range(8)}
+        count = {kind: sum(low.kind == kind for low in lowered) for kind in range(9)}
         limited = sum(low.kind in (fill.TORQUE, fill.POSITION, fill.VELOCITY,
                                    fill.ACCELERATION) for low in lowered)
         self.cart = np.zeros((max(1, count[fill.CART]), kernels.CART_SIZE))
@@ -84,9 +86,10 @@ class Tables:
         self.par = np.zeros((max(1, len(lowered)), 2))
         self.tmp = np.zeros(64 + n)
         self.crec = np.zeros((max(1, count[fill.COM]), kernels.COM_SIZE))
+        self.mrec = np.zeros((max(1, count[fill.MOM]), kernels.MOM_SIZE))
         self.body = np.zeros((robot.model.njoints, 4))
         self.set_bodies(robot.model)
-        self.next = {'cart': 0, 'joint': 0, 'lims': 0, 'com': 0}
+        self.next = {'cart': 0, 'joint': 0, 'lims': 0, 'com': 0, 'mom': 0}
         #: set when an object of this configuration (or its servo) changed an attribute
         self.watch = Touched()
 
@@ -282,6 +285,32 @@ class _CoM(_Lowered):
             task.set_desired(task.robot.data.com[0])
 
 
+class _Momentum(_Lowered):
+    kind = fill.MOM
+
+    def bind(self, tables, k, plan) -> None:
+        super().bind(tables, k, plan)
+        task = self.obj
+        a = tables.take('mom')
+        rec = tables.mrec[a]
+        for attr, block in (('_h_ref', kernels.M_H_REF), ('_hd_ref', kernels.M_HD_REF),
+                            ('_err', kernels.M_ERR)):
+            _rebind(task, attr, rec, 6 * block)
+        pid = task.pid()
+        for attr, block in (('_p', kernels.M_KP), ('_i', kernels.M_KI), ('_d', kernels.M_KD),
+                            ('_windup', kernels.M_WINDUP), ('_integral', kernels.M_INTEGRAL)):
+            _rebind(pid, attr, rec, 6 * block)
+        tables.tab[k, 2] = a
+        tables.tab[k, 3] = offset_in(task.E, plan.E)
+        self.refresh()
+
+    def refresh(self) -> None:
+        self.set_par(1.0 / self.obj.robot.get_total_mass())  # (its rows are per unit of mass)
+
+    def rebind_model(self) -> None:
+        self.refresh()
+
+
 class _Regularisation(_Lowered):
     kind = fill.REG
 
@@ -333,6 +362,7 @@ class _AccelerationLimit(_JointBox):
 
 _EXACT = {
     CoMTask: _CoM,
+    MomentumTask: _Momentum,
     RegularisationTask: _Regularisation,
     JointAccelerationTask: _Joint,
     JointTorqueLimitConstraint: _TorqueLimit,

@@ -39,8 +39,9 @@ FIELDS = (
     # the lowered objects' records and table
     'cart', 'cart_sup', 'jrec', 'lims', 'pacc', 'tab', 'par', 'tmp',
     # the centre of mass (Data's com[0], vcom[0], Jcom), the bodies' [mass, lever] (row 0: the
-    # total mass) and the CoM tasks' records
-    'com', 'vcom', 'Jcom', 'body', 'crec',
+    # total mass) and the CoM tasks' records; the centroidal momentum's map, value and drift
+    # (the robot's CentroidalMomentum terms) and the momentum tasks' records
+    'com', 'vcom', 'Jcom', 'body', 'crec', 'Ag', 'hg', 'dhg', 'mrec',
     # the contacts (compiled/contacts.py): Pinocchio's M and nle, the wrench Jacobians, the
     # contacts' table, parameters and soles' faces, the dynamics rows [first row in M, on]
     'M_pin', 'nle', 'Wj', 'ct_tab', 'ct_par', 'ct_faces', 'ct_sup', 'dyn',
