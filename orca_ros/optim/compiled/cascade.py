@@ -106,7 +106,7 @@ class _Level:
         upper = ([t for j in range(index) for t in levels.level_tasks[j]]
                  if reference is not None else [])
         nl, nc, ni = p.lock_rows(), p.n_eq_constraints, p.n_in
-        self.mu = np.zeros(2)
+        self.mu, self.mu_for = np.zeros(2), None  # (and the (damping, alpha) it was set for)
         self.Hd, self.g2 = np.zeros((nx, nx)), np.zeros(nx)
         self.keep, self.ref_x, self.band = np.zeros(nl), np.zeros(nx), np.zeros(nl)
         self.Mb = np.zeros((nc + ni + nl, nx))
@@ -213,10 +213,12 @@ class CompiledCascade:
         ``banded`` False: strict whatever the priorities (the reference path found no band).
         """
         p = lev.problem
-        mu = p.temporal_damping
-        # times the own and the upper tasks' weights, by kernel (PriorityLevels.damping_scale)
-        lev.mu[0] = mu * lev.alpha
-        lev.mu[1] = mu * lev.alpha * math.sqrt(1.0 - lev.alpha)
+        mu, alpha = p.temporal_damping, lev.alpha
+        if (mu, alpha) != lev.mu_for:  # (numpy item writes cost ~0.1 us each: on a change only)
+            # times the own and the upper tasks' weights, by kernel (PriorityLevels.damping_scale)
+            lev.mu[0] = mu * alpha
+            lev.mu[1] = mu * alpha * math.sqrt(1.0 - alpha)
+            lev.mu_for = (mu, alpha)
         p.band = None
         if banded and lev.open:
             code = CompiledCascade._generalized(lev, deadline, max_iterations)
