@@ -182,12 +182,16 @@ class CollisionGeometry:
             # in one cycle from that noise; 2.9 at 1e-8 and below (the joints' own kink). GJK takes
             # as long at 1e-9 as at 1e-6 there (0.82 us per pair).
             request.gjk_tolerance = GJK_TOLERANCE
-        spheres = [(c, r + self.rounding)
-                   for c, r in (_bounding_sphere(g.geometry) for g in gm.geometryObjects)]
-        self._centre = np.array([c for c, _ in spheres]).reshape(-1, 3)
-        self._radius = np.array([r for _, r in spheres])
-        self._capsule = np.array([_bounding_capsule(g.geometry) for g in gm.geometryObjects])
-        self._capsule = self._capsule.reshape(-1, 7)
+        # the bounding volumes (the robot's computed once: a rebuild for an obstacle runs in
+        # the control cycle)
+        bounds = getattr(self, '_robot_bounds', [])
+        for g in gm.geometryObjects[len(bounds):]:
+            c, r = _bounding_sphere(g.geometry)
+            bounds.append((c, r + self.rounding, _bounding_capsule(g.geometry)))
+        self._robot_bounds = bounds[:self.n_robot]
+        self._centre = np.array([b[0] for b in bounds]).reshape(-1, 3)
+        self._radius = np.array([b[1] for b in bounds])
+        self._capsule = np.array([b[2] for b in bounds]).reshape(-1, 7)
         self._capsule[:, 6] += self.rounding
         self._joint = [int(g.parentJoint) for g in gm.geometryObjects]
         cp = gm.collisionPairs

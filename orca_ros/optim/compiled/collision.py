@@ -230,16 +230,22 @@ class CollisionKernels:
         pin.updateGeometryPlacements(model, data, gm, gd)  # (see unavailable_reason)
         oMg = placement_view(gd, ng)
         res = result_view(gm, gd) if npairs else np.zeros((1, RES))
-        views = data_views(model, data)
+        # the robot's Data and model: checked and read again only when they are new (an
+        # obstacle's addition or removal rebinds in the control cycle)
+        if getattr(self, '_robot_terms', (None,))[0] is not data:
+            views = data_views(model, data)
+            sup = np.zeros((model.njoints, model.nv), dtype=np.bool_)
+            for jt in range(1, model.njoints):
+                for s in model.supports[jt]:
+                    if s > 0:
+                        jm = model.joints[s]
+                        sup[jt, jm.idx_v: jm.idx_v + jm.nv] = True
+            self._robot_terms = (data, views, sup)
+        _, views, sup = self._robot_terms
         if oMg is None or res is None or views is None:
+            self._robot_terms = (None,)
             raise RuntimeError(CollisionKernels.unavailable_reason(con)
                                or "Pinocchio's Data is not laid out as the kernels read it")
-        sup = np.zeros((model.njoints, model.nv), dtype=np.bool_)
-        for jt in range(1, model.njoints):
-            for s in model.supports[jt]:
-                if s > 0:
-                    jm = model.joints[s]
-                    sup[jt, jm.idx_v: jm.idx_v + jm.nv] = True
         gsphere = np.zeros((ng, 4))
         gsphere[:, :3], gsphere[:, 3] = geom._centre, geom._radius
         pairs = np.zeros((max(1, npairs), 2), dtype=np.int64)
