@@ -55,10 +55,18 @@ def test_markers_carry_the_com_the_support_polygon_and_the_contact_forces(tmp_pa
     probe.node.create_subscription(MarkerArray, '/orca_controller/markers', got.append, 100)
     try:
         probe.wait_for(lambda: probe.sim_time() > 0.6, 120, 'the quadruped standing 0.6 s')
-        probe.wait_for(lambda: any(_stamp(m) > 0.5 for m in got), 30, 'markers after 0.5 s')
-        with probe.lock:
-            states = {round(t, 6): q for t, q, _ in probe.states}
-            odom = {round(t, 6): (p, o) for t, p, o in probe.odom}
+
+        def received():
+            """Return the probe's states and base poses, and the markers after 0.5 s with both."""
+            with probe.lock:
+                states = {round(t, 6): q for t, q, _ in probe.states}
+                odom = {round(t, 6): (p, o) for t, p, o in probe.odom}
+            stamps = [round(_stamp(m), 6) for m in list(got)]
+            return states, odom, sum(t > 0.5 and t in states and t in odom for t in stamps)
+
+        # (waited for as many as are checked below: markers arrive at their own rate)
+        probe.wait_for(lambda: received()[2] >= 3, 30, 'three marker arrays after 0.5 s')
+        states, odom, _ = received()
         mg = robot.get_total_mass() * 9.81
         checked, com_err, force_err = 0, 0.0, 0.0
         for msg in got:
