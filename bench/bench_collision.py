@@ -19,7 +19,8 @@ DAQP, multi-level strategy): a hand pose task following a straight minimum-jerk 
 ball of 10 cm radius on its path, a joint posture (weight 1e-3), torque / position / velocity
 limits; closed loop on the rigid-body model for 3 s. "with": plus ``CollisionAvoidanceConstraint``
 at its defaults (every pair the SRDF leaves enabled, 44, and the ball); "without": the same run
-with neither. The hand goes round the ball in the first, through it in the second.
+with neither. The hand goes round the ball in the first, through it in the second. The scenario is
+``orca_ros.examples.round_the_ball.Sweep`` (the README's picture).
 
 Each round runs the two in fresh processes, one after the other (interleaved: a busy spell of the
 machine hits both alike); medians over the rounds of each process's median and p99 per cycle. The
@@ -33,69 +34,28 @@ from __future__ import annotations
 import argparse
 import gc
 import json
-import os
 import subprocess
 import sys
 import time
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, 'peer'))
 TARGET = 2.0
 
 
 def run(with_collision: bool) -> dict:
-    import orca_ros as orca
-    import pinocchio as pin
     from orca_ros.examples.common import integrate
-    from scenarios import example_robot_data
+    from orca_ros.examples.round_the_ball import Sweep
 
-    urdf = example_robot_data('panda_description/urdf/panda.urdf')
-    srdf = example_robot_data('panda_description/srdf/panda.srdf')
-    robot = orca.RobotModel()
-    robot.load_model_from_file(urdf)
-    model = robot.model
-    q0 = np.array([-0.7, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785, 0.02, 0.02])
-    q1 = q0.copy()
-    q1[0] = 0.7
-    data, hand = model.createData(), model.getFrameId('panda_hand')
-
-    def hand_pose(q):
-        pin.framesForwardKinematics(model, data, q)
-        return data.oMf[hand].homogeneous.copy()
-
-    T0, T1 = hand_pose(q0), hand_pose(q1)
-    robot.set_robot_state(q0, np.zeros(model.nv))
-    c = orca.Controller('bench', robot)
-    ee = c.add_task(orca.CartesianTask, 'ee')
-    ee.set_control_frame('panda_hand')
-    ee.servo_controller().pid().set_proportional_gain([100.0] * 6)
-    ee.servo_controller().pid().set_derivative_gain([20.0] * 6)
-    posture = c.add_task(orca.JointAccelerationTask, 'posture')
-    posture.set_weight(1e-3)
-    posture.set_desired(q0)
-    c.add_constraint(orca.JointTorqueLimitConstraint, 'torque')
-    c.add_constraint(orca.JointPositionLimitConstraint, 'position')
-    c.add_constraint(orca.JointVelocityLimitConstraint, 'velocity')
-    pairs = 0
-    if with_collision:
-        ball = np.eye(4)
-        ball[:3, 3] = 0.5 * (T0[:3, 3] + T1[:3, 3])
-        col = c.add_constraint(orca.CollisionAvoidanceConstraint('collision', srdf=srdf))
-        col.add_obstacle('ball', 'sphere', [0.1], ball)
-    c.activate_tasks_and_constraints()
-    if with_collision:
-        pairs = len(col.geometry.geom_model.collisionPairs)
-    q, v, dt = q0.copy(), np.zeros(model.nv), 1e-3
+    sweep = Sweep(with_collision)
+    robot, c, ee = sweep.robot, sweep.controller, sweep.ee
+    pairs = len(sweep.col.geometry.geom_model.collisionPairs) if with_collision else 0
+    q, v, dt = sweep.Q0.copy(), np.zeros(robot.model.nv), 1e-3
     times, failures = [], 0
     gc.disable()
     try:
         for k in range(3000):
-            s = min(1.0, k * dt / 2.0)
-            T = T0.copy()
-            T[:3, 3] += (10 * s**3 - 15 * s**4 + 6 * s**5) * (T1[:3, 3] - T0[:3, 3])
-            ee.servo_controller().set_desired(T)
+            ee.servo_controller().set_desired(sweep.reference(k * dt))
             robot.set_robot_state(q, v)
             t0 = time.perf_counter()
             failures += not c.update(k * dt, dt)

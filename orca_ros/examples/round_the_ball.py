@@ -49,52 +49,73 @@ def example_robot_data(rel: str) -> str:
     raise FileNotFoundError(f'example-robot-data not installed (no {rel})')
 
 
+class Sweep:
+    """
+    The scenario, built: the Panda, its controller and the ball (``col``: the constraint, or None).
+
+    Its hand's reference at time t: :meth:`reference`. Shared by the picture, ``bench_collision``
+    and ``test_collision_avoidance``.
+    """
+
+    Q0 = np.array([-0.7, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785, 0.02, 0.02])
+
+    def __init__(self, with_constraint: bool):
+        self.urdf = example_robot_data('panda_description/urdf/panda.urdf')
+        self.srdf = example_robot_data('panda_description/srdf/panda.srdf')
+        self.robot = robot = orca.RobotModel()
+        robot.load_model_from_file(self.urdf)
+        nv = robot.model.nv
+        q1 = self.Q0.copy()
+        q1[0] = 0.7
+        robot.set_robot_state(q1, np.zeros(nv))
+        self.T1 = robot.get_frame_pose('panda_hand')
+        robot.set_robot_state(self.Q0, np.zeros(nv))
+        self.T0 = robot.get_frame_pose('panda_hand')
+        self.ball = np.eye(4)
+        self.ball[:3, 3] = 0.5 * (self.T0[:3, 3] + self.T1[:3, 3])  # on the straight path
+        self.controller = c = orca.Controller('round_the_ball', robot)
+        self.ee = ee = c.add_task(orca.CartesianTask, 'ee')
+        ee.set_control_frame('panda_hand')
+        ee.servo_controller().pid().set_proportional_gain([100.0] * 6)
+        ee.servo_controller().pid().set_derivative_gain([20.0] * 6)
+        posture = c.add_task(orca.JointAccelerationTask, 'posture')
+        posture.set_weight(1e-3)
+        posture.set_desired(self.Q0)
+        c.add_constraint(orca.JointTorqueLimitConstraint, 'torque')
+        c.add_constraint(orca.JointPositionLimitConstraint, 'position')
+        c.add_constraint(orca.JointVelocityLimitConstraint, 'velocity')
+        self.col = None
+        if with_constraint:
+            self.col = c.add_constraint(
+                orca.CollisionAvoidanceConstraint('collision', srdf=self.srdf))
+            self.col.add_obstacle('ball', 'sphere', [0.1], self.ball)
+        c.activate_tasks_and_constraints()
+
+    def reference(self, t: float) -> np.ndarray:
+        """Return the hand's reference: a minimum-jerk straight line for 2 s, then the target."""
+        s = min(1.0, t / 2.0)
+        T = self.T0.copy()
+        T[:3, 3] += (10 * s**3 - 15 * s**4 + 6 * s**5) * (self.T1[:3, 3] - self.T0[:3, 3])
+        return T
+
+
 def run(with_constraint: bool) -> dict:
     """Run the sweep; return the hand's path, the reference's, the least distance, the torques."""
-    urdf = example_robot_data('panda_description/urdf/panda.urdf')
-    srdf = example_robot_data('panda_description/srdf/panda.srdf')
-    robot = orca.RobotModel()
-    robot.load_model_from_file(urdf)
+    sweep = Sweep(with_constraint)
+    robot, c, ball = sweep.robot, sweep.controller, sweep.ball
     model = robot.model
-    q0 = np.array([-0.7, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785, 0.02, 0.02])
-    q1 = q0.copy()
-    q1[0] = 0.7
-    robot.set_robot_state(q1, np.zeros(model.nv))
-    T1 = robot.get_frame_pose('panda_hand')
-    robot.set_robot_state(q0, np.zeros(model.nv))
-    T0 = robot.get_frame_pose('panda_hand')
-    ball = np.eye(4)
-    ball[:3, 3] = 0.5 * (T0[:3, 3] + T1[:3, 3])  # on the straight path
-    c = orca.Controller('round_the_ball', robot)
-    ee = c.add_task(orca.CartesianTask, 'ee')
-    ee.set_control_frame('panda_hand')
-    ee.servo_controller().pid().set_proportional_gain([100.0] * 6)
-    ee.servo_controller().pid().set_derivative_gain([20.0] * 6)
-    posture = c.add_task(orca.JointAccelerationTask, 'posture')
-    posture.set_weight(1e-3)
-    posture.set_desired(q0)
-    c.add_constraint(orca.JointTorqueLimitConstraint, 'torque')
-    c.add_constraint(orca.JointPositionLimitConstraint, 'position')
-    c.add_constraint(orca.JointVelocityLimitConstraint, 'velocity')
     # the measure: the constraint's geometry (its own when it is on)
-    col = orca.CollisionAvoidanceConstraint('collision', srdf=srdf)
-    col.add_obstacle('ball', 'sphere', [0.1], ball)
-    if with_constraint:
-        c.add_constraint(col)
-    c.activate_tasks_and_constraints()
-    geom = col.geometry or CollisionGeometry(robot, srdf)
-    if col.geometry is None:
+    geom = sweep.col.geometry if sweep.col else CollisionGeometry(robot, sweep.srdf)
+    if sweep.col is None:
         geom.add_obstacle('ball', 'sphere', [0.1], ball)
     with_ball = [k for k in range(len(geom._pairs)) if geom.obstacles['ball'] in geom._pairs[k]]
     data = model.createData()
-    q, v = q0.copy(), np.zeros(model.nv)
+    q, v = sweep.Q0.copy(), np.zeros(model.nv)
     out = {'hand': [], 'reference': [], 'distance': [], 'tau': [], 'ball': ball[:3, 3],
            'failures': 0}
     for k in range(int(SECONDS / DT)):
-        s = min(1.0, k * DT / 2.0)
-        T = T0.copy()
-        T[:3, 3] += (10 * s**3 - 15 * s**4 + 6 * s**5) * (T1[:3, 3] - T0[:3, 3])
-        ee.servo_controller().set_desired(T)
+        T = sweep.reference(k * DT)
+        sweep.ee.servo_controller().set_desired(T)
         robot.set_robot_state(q, v)
         out['failures'] += not c.update(k * DT, DT)
         tau = c.get_joint_torque_command().copy()

@@ -36,6 +36,13 @@ class CentroidalMomentum:
         self._h, self._drift = np.zeros(6), np.zeros(6)
         self._Ag = np.zeros((6, nv))
 
+    @staticmethod
+    def of(robot) -> 'CentroidalMomentum':
+        """Return the robot's own, made on first use (again for a new model: a re-weld)."""
+        if robot._centroidal is None:
+            robot._centroidal = CentroidalMomentum(robot)
+        return robot._centroidal
+
     def terms(self):
         """(h 6, A_g 6 x nv, drift A_g_dot nu 6), cached per state; arrays reused."""
         robot = self.robot

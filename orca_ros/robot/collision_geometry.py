@@ -169,6 +169,7 @@ class CollisionGeometry:
         self.obstacles: dict[str, int] = {}  # name -> geometry index
         self.velocities: dict[str, np.ndarray] = {}  # name -> linear velocity (world) if moving
         self.version = 0
+        self._robot_bounds: list = []  # (centre, radius, capsule) of the robot's geometries
         self._rebuild()
 
     def _rebuild(self) -> None:
@@ -184,7 +185,7 @@ class CollisionGeometry:
             request.gjk_tolerance = GJK_TOLERANCE
         # the bounding volumes (the robot's computed once: a rebuild for an obstacle runs in
         # the control cycle)
-        bounds = getattr(self, '_robot_bounds', [])
+        bounds = list(self._robot_bounds)
         for g in gm.geometryObjects[len(bounds):]:
             c, r = _bounding_sphere(g.geometry)
             bounds.append((c, r + self.rounding, _bounding_capsule(g.geometry)))

@@ -372,9 +372,7 @@ class RobotModel(FrameApiMixin, JointLockingMixin):
         h = [m v_com; angular momentum about the CoM], world-aligned axes at the CoM.
         """
         self._require_model()
-        if self._centroidal is None:
-            self._centroidal = CentroidalMomentum(self)
-        return self._centroidal.terms()
+        return CentroidalMomentum.of(self).terms()
 
     def get_center_of_mass(self) -> np.ndarray:
         return self.get_center_of_mass_terms()[0].copy()

@@ -201,6 +201,7 @@ class CollisionKernels:
 
     def __init__(self, constraint):
         self.constraint = constraint
+        self._robot_terms: tuple = (None,)  # (Data, its views, the joints' supports)
         self._bind()
 
     @staticmethod
@@ -232,7 +233,7 @@ class CollisionKernels:
         res = result_view(gm, gd) if npairs else np.zeros((1, RES))
         # the robot's Data and model: checked and read again only when they are new (an
         # obstacle's addition or removal rebinds in the control cycle)
-        if getattr(self, '_robot_terms', (None,))[0] is not data:
+        if self._robot_terms[0] is not data:
             views = data_views(model, data)
             sup = np.zeros((model.njoints, model.nv), dtype=np.bool_)
             for jt in range(1, model.njoints):

@@ -254,13 +254,10 @@ class CompiledCycle:
             and not any(low.kind == fill.COM for low in self.lowered)
             and terms.matches(robot.model, lambda data: fill.data_views(robot.model, data))
         )
-        # momentum tasks: the robot's centroidal terms (dccrba), each cycle
-        self._centroidal = None
-        cm_terms = np.zeros((6, robot.model.nv)), np.zeros(6), np.zeros(6)
+        # momentum tasks: the robot's centroidal terms (dccrba, once per state: kernel and API)
+        self._centroidal, cm_terms = None, (np.zeros((6, lay.nv)), np.zeros(6), np.zeros(6))
         if any(low.kind == fill.MOM for low in self.lowered):
-            if robot._centroidal is None:
-                robot._centroidal = CentroidalMomentum(robot)
-            self._centroidal = cm = robot._centroidal
+            self._centroidal = cm = CentroidalMomentum.of(robot)
             cm_terms = cm._Ag, cm._h, cm._drift
         if robot._state_kernel is None:  # a new robot model (a re-weld) comes without it
             robot._state_kernel = StateKernel(robot, _QUATERNION_TOL)

@@ -61,6 +61,19 @@ def _rebind(owner, attr: str, record: np.ndarray, start: int) -> None:
     setattr(owner, attr, view.reshape(value.shape))
 
 
+def _rebind_blocks(task, record: np.ndarray, width: int, own, gains) -> None:
+    """
+    Rebind a servoed task's arrays and its PID's to blocks of ``width`` values of ``record``.
+
+    ``own``: (attribute, block) of the task; ``gains``: the blocks of the PID's P, I, D gains,
+    windup limit and integral.
+    """
+    for attr, block in own:
+        _rebind(task, attr, record, width * block)
+    for attr, block in zip(('_p', '_i', '_d', '_windup', '_integral'), gains):
+        _rebind(task.pid(), attr, record, width * block)
+
+
 def offset_in(view: np.ndarray, base: np.ndarray) -> int:
     """Index of ``view``'s first element (1-D base) or row (2-D base) in ``base``."""
     if not np.shares_memory(view, base):
@@ -267,14 +280,10 @@ class _CoM(_Lowered):
         super().bind(tables, k, plan)
         task = self.obj
         a = tables.take('com')
-        rec = tables.crec[a]
-        for attr, block in (('_p_ref', kernels.C_P_REF), ('_v_ref', kernels.C_V_REF),
-                            ('_a_ref', kernels.C_A_REF), ('_err', kernels.C_ERR)):
-            _rebind(task, attr, rec, 3 * block)
-        pid = task.pid()
-        for attr, block in (('_p', kernels.C_KP), ('_i', kernels.C_KI), ('_d', kernels.C_KD),
-                            ('_windup', kernels.C_WINDUP), ('_integral', kernels.C_INTEGRAL)):
-            _rebind(pid, attr, rec, 3 * block)
+        own = (('_p_ref', kernels.C_P_REF), ('_v_ref', kernels.C_V_REF),
+               ('_a_ref', kernels.C_A_REF), ('_err', kernels.C_ERR))
+        gains = (kernels.C_KP, kernels.C_KI, kernels.C_KD, kernels.C_WINDUP, kernels.C_INTEGRAL)
+        _rebind_blocks(task, tables.crec[a], 3, own, gains)
         tables.tab[k, 2] = a
         tables.tab[k, 3] = offset_in(task.E, plan.E)
 
@@ -292,14 +301,9 @@ class _Momentum(_Lowered):
         super().bind(tables, k, plan)
         task = self.obj
         a = tables.take('mom')
-        rec = tables.mrec[a]
-        for attr, block in (('_h_ref', kernels.M_H_REF), ('_hd_ref', kernels.M_HD_REF),
-                            ('_err', kernels.M_ERR)):
-            _rebind(task, attr, rec, 6 * block)
-        pid = task.pid()
-        for attr, block in (('_p', kernels.M_KP), ('_i', kernels.M_KI), ('_d', kernels.M_KD),
-                            ('_windup', kernels.M_WINDUP), ('_integral', kernels.M_INTEGRAL)):
-            _rebind(pid, attr, rec, 6 * block)
+        own = (('_h_ref', kernels.M_H_REF), ('_hd_ref', kernels.M_HD_REF), ('_err', kernels.M_ERR))
+        gains = (kernels.M_KP, kernels.M_KI, kernels.M_KD, kernels.M_WINDUP, kernels.M_INTEGRAL)
+        _rebind_blocks(task, tables.mrec[a], 6, own, gains)
         tables.tab[k, 2] = a
         tables.tab[k, 3] = offset_in(task.E, plan.E)
         self.refresh()
