@@ -272,36 +272,33 @@ class Controller(TaskRegistryMixin):
         if self._dirty:  # configuration: solvers set up, their solves not time-bounded
             self._configure()
             deadline = None
-        cc = self.compiled_cycle
+        cc, levels = self.compiled_cycle, self._levels
+        fused = None  # the first level's code where the compiled cycle took one call
         if cc is not None:  # the layout's update included
-            cc.update(current_time, dt)
+            fused = cc.update(current_time, dt, deadline, self._max_iterations)
         else:
             self.layout.update()
             for obj in self._updated:
                 obj.update(current_time, dt)
             self._plan.update()
-        if cc is not None and cc.steady:  # every level solved by kernel
-            problem, code, dropped = cc.solve(self._levels, deadline, self._max_iterations,
-                                              self.name)
+        if fused is _SUCCESS:  # solved, solution written out
+            levels.contacts_relaxed = False
+            problem, code, dropped = None, fused, False
+        elif fused is not None:
+            levels.contacts_relaxed = False
+            problem, code, dropped = levels.first_failed(cc.problem, fused, deadline,
+                                                         self._max_iterations)
+        elif cc is not None and cc.steady:  # every level solved by kernel
+            problem, code, dropped = cc.solve(levels, deadline, self._max_iterations, self.name)
         else:
-            problem, code, dropped = self._levels.solve(
+            problem, code, dropped = levels.solve(
                 deadline, self._max_iterations, self.priorities, self.name
             )
         self.dropped_levels += dropped
         self._return_code = code
         if code is _SUCCESS:
-            x = problem.x
-            lay = self.layout
-            if cc is not None:  # the contacts' wrenches too
-                cc.finish(x, self._x, self._acc, self._tau, self._tau_cmd)
-            else:
-                self._x[:] = x
-                self._acc[:] = x[lay.acc]
-                np.dot(lay.T, x, out=self._tau)
-                self._tau += lay.t0
-                self._tau_cmd[:] = self._tau
-                for c in lay.contacts:
-                    c.record_solution(x)
+            if problem is not None:  # else the one-call cycle wrote it out
+                self._write_out(problem.x, cc)
             if self._remove_gravity or self._remove_coriolis:
                 self._make_command()
             self._solution_found = True
@@ -312,6 +309,20 @@ class Controller(TaskRegistryMixin):
         if self._update_cb is not None:
             self._update_cb(current_time, dt)
         return self._solution_found
+
+    def _write_out(self, x, cc) -> None:
+        """Take the solution x: accelerations, torques, command, the contacts' wrenches."""
+        if cc is not None:
+            cc.finish(x, self._x, self._acc, self._tau, self._tau_cmd)
+            return
+        lay = self.layout
+        self._x[:] = x
+        self._acc[:] = x[lay.acc]
+        np.dot(lay.T, x, out=self._tau)
+        self._tau += lay.t0
+        self._tau_cmd[:] = self._tau
+        for c in lay.contacts:
+            c.record_solution(x)
 
     def get_levels(self) -> list[int]:
         """Priority levels of the current problem stack (one entry for ONE_LEVEL_WEIGHTED)."""

@@ -269,7 +269,7 @@ class CompiledCascade:
             if flag == 0:
                 code = ref.solve_bound()  # set up, cold
             else:
-                code = ref._ran(flag, it_ref, t0)
+                code = ref._ran(flag, it_ref, time.perf_counter() - t0)
                 if code is not _SUCCESS and it_ref < cap:
                     code = ref._cold(cap - it_ref)  # once more, cold
             if code is _SUCCESS and lev.bands(lev.state):
@@ -280,7 +280,7 @@ class CompiledCascade:
         ref.iterations = it_ref
         if flag == 0:
             return back.solve_bound()  # set up, cold
-        code = back._ran(flag, it, t0)
+        code = back._ran(flag, it, time.perf_counter() - t0)
         if code is not _SUCCESS and it < cap:
             code = back._cold(cap - it)  # once more, cold
         return code

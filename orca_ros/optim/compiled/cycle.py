@@ -28,8 +28,9 @@ import time
 
 import numpy as np
 
-from . import cascade, contacts as ck, cycle_kernel, direct_daqp, fill, terms
+from . import cascade, clock, contacts as ck, cycle_kernel, direct_daqp, fill, terms
 from .collision import attach_kernels
+from .fused_step import FusedStep
 from .lowering import lower, offset_in, Tables
 from .plan_assembly import PlanAssembly
 from .state_kernel import StateKernel
@@ -58,6 +59,7 @@ class CompiledCycle:
     def __init__(self, controller, plan):
         start = time.perf_counter()
         robot = controller.robot
+        self.fused = None  # the one-call cycle (FusedStep), where it applies
         self.python = []  # objects that run their own update, in the reference path's order
         self.lowered = []
         self.in_python: dict[str, str] = {}  # object name -> why it is not lowered
@@ -99,6 +101,7 @@ class CompiledCycle:
             self.ct_tab[:, 3] = 0
             self.dyn[1] = 0
             self._run_contacts(self.ws, 1e-3)
+        self.fused = self._fuse(controller)
         self.compile_seconds = time.perf_counter() - start
 
     def _solve_in_kernel(self, controller) -> bool:
@@ -125,6 +128,18 @@ class CompiledCycle:
         b.write_into(problem.x)
         b.compile_for(problem.H, problem.g, plan.M, plan.lo, plan.hi)
         return True
+
+    def _fuse(self, controller):
+        """The one-call cycle (FusedStep): one level solved by kernel, wrench bounds by kernel."""
+        if not self.steady or self.cascade is not None:
+            return None
+        if self.plan.contacts and not self.owns_layout:
+            return None  # the contacts' wrench bounds may change on any cycle (update)
+        why = clock.unavailable_reason()
+        if why is not None:
+            self.in_python['the one-call cycle'] = why
+            return None
+        return FusedStep(self, controller)
 
     def _lower_levels(self, controller):
         """Lower the levels below the first (None: one level, or they cannot be)."""
@@ -289,12 +304,16 @@ class CompiledCycle:
         self._run_contacts = entry(cycle_kernel.run_contacts, ws, 1e-3)
         vec = np.zeros(1)
         self._finish = entry(cycle_kernel.finish, ws, vec, vec, vec, vec, vec)
+        if self.fused is not None:
+            self.fused.bind(ws)
 
-    def update(self, t: float, dt: float) -> None:
+    def update(self, t: float, dt: float, deadline=None, max_iterations=None):
         """
         Fill every object's rows and assemble the plan.
 
         What the reference path's object loop, CyclePlan.update and the first level's build do.
+        Where the cycle takes one call (``fused``), it solves and writes the solution out too:
+        then it returns the first level's ReturnCode (see FusedStep), else None.
         """
         if self.robot.data is not self.data:
             self._bind_data()
@@ -321,6 +340,9 @@ class CompiledCycle:
             self.assembly.flags()
             if self.cascade is not None:
                 self.cascade.flags()
+        fused = self.fused
+        if fused is not None and fused.ready() and not (full and self.plan.contacts):
+            return fused(dt, deadline, max_iterations)
         flags = self._run(self.ws, dt)
         self.plan.box_conflicts += flags & 1
         self.problem.built_finite = not flags & 2

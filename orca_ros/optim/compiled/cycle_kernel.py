@@ -11,14 +11,22 @@
 # WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
 # See the License for the specific language governing permissions and
 # limitations under the License.
-"""The cycle's one kernel call: every lowered object's rows, then the plan's assembly."""
+"""
+The cycle's kernels: every lowered object's rows, the plan's assembly, the solution's use.
+
+:func:`run` fills and assembles, :func:`finish` writes the solution out; :func:`step` is both
+with the first level's DAQP solve between them, one call for a whole one-level cycle.
+"""
 
 from __future__ import annotations
 
 import math
 
 from .assembly import assemble
+from .clock import monotonic_ns
 from .contacts import contact_terms
+from .daqp_c import UPDATE_ALL
+from .daqp_kernel import solve
 from .fill import fill
 from .terms import drift
 from ...utils.jit import njit
@@ -85,3 +93,28 @@ def finish(ws, x, x_out, acc_out, tau, tau_cmd):
     for c in range(ws.n_wrenches):
         for k in range(6):
             last[c, k] = x[first[c] + k]
+
+
+#: step's exit flag when the first level's H or g is not finite (nothing solved)
+NOT_BUILT = -200
+
+
+@njit
+def step(ws, s, dt, cap, clock, x_out, acc_out, tau, tau_cmd):
+    """
+    Fill, assemble, solve the first level warm (DAQP, ``s``), write the solution out.
+
+    The solve as :func:`.daqp_kernel.solve` with every part of the problem updated, capped at
+    ``cap`` iterations; the solution written out (:func:`finish`) only when it succeeded.
+    Returns (run's flags, DAQP's exit flag or NOT_BUILT, its iterations, the solve's
+    nanoseconds by the clock at address ``clock``).
+    """
+    flags = run(ws, dt)
+    if flags & 2:
+        return flags, NOT_BUILT, 0, 0
+    start = monotonic_ns(clock)
+    flag, iters = solve(s, UPDATE_ALL, cap)
+    ns = monotonic_ns(clock) - start
+    if flag == 1:
+        finish(ws, s.x, x_out, acc_out, tau, tau_cmd)
+    return flags, flag, iters, ns

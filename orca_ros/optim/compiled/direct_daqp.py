@@ -169,12 +169,12 @@ class DirectDAQPBackend(QPBackend):
     def _run(self, mask: int, cap: int) -> ReturnCode:
         t0 = time.perf_counter()
         flag, iters = self._solve(self._state, mask, cap)
-        return self._ran(flag, iters, t0)
+        return self._ran(flag, iters, time.perf_counter() - t0)
 
-    def _ran(self, flag: int, iters: int, t0: float) -> ReturnCode:
-        """Return the code of a solve started at t0 (the time model updated, reset on failure)."""
+    def _ran(self, flag: int, iters: int, seconds: float) -> ReturnCode:
+        """Return the code of a solve that took ``seconds`` (the time model updated, reset on failure)."""
         self.iterations = iters
-        self.record(time.perf_counter() - t0, iters)
+        self.record(seconds, iters)
         if flag == 1:
             return ReturnCode.SUCCESS
         code = (
@@ -230,7 +230,7 @@ class DirectDAQPBackend(QPBackend):
             return ReturnCode.SUCCESS
         if flag < prepared:
             return flag
-        code = self._ran(flag, iters, t0)
+        code = self._ran(flag, iters, time.perf_counter() - t0)
         if code is not ReturnCode.SUCCESS and iters < cap:
             code = self._cold(cap - iters)  # once more, cold
         return code

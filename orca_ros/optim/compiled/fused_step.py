@@ -1,0 +1,91 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+A one-level cycle in one kernel call: rows, assembly, DAQP's warm solve, torques.
+
+Where the compiled cycle solves its only level by kernel (:mod:`.direct_daqp`), the three
+kernel calls of a cycle (:func:`.cycle_kernel.run`, the solve, :func:`.cycle_kernel.finish`)
+and the Python between them (~6 us on the Panda) become one call of
+:func:`.cycle_kernel.step`. What the solve does is the same: the iteration cap from the time
+left (taken before the call: the rows' few microseconds are the budget's margin), the solve
+timed alone for the solver's time model (by the clock in the kernel, :mod:`.clock`), a failed
+warm solve retried cold with what is left of the cap, then the level's failure handling.
+
+Taken only while DAQP's workspace is set up (a warm start): the first solve and the one after
+a failure set it up in Python, on the cycle's three-call path; so does a cycle that must
+write contact wrench bounds between assembly and solve (a contact changed).
+"""
+
+from __future__ import annotations
+
+from . import clock, cycle_kernel
+from ..solvers import ReturnCode
+from ...utils.jit import entry
+
+_SUCCESS = ReturnCode.SUCCESS
+
+
+class FusedStep:
+    """The one-call cycle of a CompiledCycle (see the module)."""
+
+    def __init__(self, cycle, controller):
+        self.cycle = cycle
+        self.problem = cycle.problem
+        self.backend = cycle.problem.backend
+        # the controller's solution, accelerations, torques and command (made with it: a
+        # re-layout of its variables configures it again, and with it this)
+        self.outs = (controller._x, controller._acc, controller._tau, controller._tau_cmd)
+        self.clock = clock.address()
+        self.bind(cycle.ws)
+
+    def bind(self, ws) -> None:
+        """Compile (or load) the kernel for the workspace's types (again on a new one)."""
+        self.ws = ws
+        self._step = entry(cycle_kernel.step, ws, self.backend._state, 1e-3, 0, self.clock,
+                           *self.outs)
+
+    def ready(self) -> bool:
+        """Whether DAQP's workspace holds the last solve's active set (a warm start)."""
+        return self.backend._set_up
+
+    def __call__(self, dt: float, deadline, max_iterations) -> ReturnCode:
+        """
+        Run the cycle from the rows on; SUCCESS: the solution is written out.
+
+        Any other code is the first level's, as ``CompiledCycle.solve_first`` leaves it before
+        the level's failure handling (``PriorityLevels.first_failed``).
+        """
+        b, problem = self.backend, self.problem
+        b.deadline = deadline
+        b.max_iterations = max_iterations or b.default_max_iterations
+        cap = b.iteration_cap()
+        flags, flag, iters, ns = self._step(self.ws, b._state, dt, cap, self.clock, *self.outs)
+        self.cycle.plan.box_conflicts += flags & 1
+        if flag == 1:
+            problem.built_finite = True
+            b.iterations = iters
+            b.record(ns * 1e-9, iters)
+            problem.return_code = _SUCCESS
+            return _SUCCESS
+        problem.built_finite = flag != cycle_kernel.NOT_BUILT
+        if not problem.built_finite:
+            code = ReturnCode.NON_FINITE_PROBLEM
+        else:
+            code = b._ran(flag, iters, ns * 1e-9)
+            if code is not _SUCCESS and iters < cap:
+                code = b._cold(cap - iters)  # once more, cold
+            if code is _SUCCESS:
+                self.cycle.finish(problem.x, *self.outs)
+        problem.return_code = code
+        return code

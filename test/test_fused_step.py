@@ -1,0 +1,127 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+The one-call cycle (optim/compiled/fused_step.py) against the compiled cycle's three calls.
+
+Two controllers on the same arm see the same states and targets; one has its one-call path
+taken away. Along a run whose problem turns infeasible and back, and whose locked joint is
+welded again (a new Pinocchio model and Data): the same return codes and the same torques,
+the one-call path taken on every cycle that starts warm. The kernel's clock, which times the
+solve for the solver's time model, reads what ``time.monotonic_ns`` reads.
+"""
+
+import time
+
+import numpy as np
+import orca_ros as orca
+from orca_ros.optim.solvers import ReturnCode
+from orca_ros.paths import default_urdf_path
+import pytest
+
+pytest.importorskip('numba')
+pytest.importorskip('daqp')
+
+from orca_ros.optim.compiled import clock  # noqa: E402,I100
+
+Q0 = np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6])
+
+
+def _controller(one_call: bool):
+    robot = orca.RobotModel()
+    robot.load_model_from_file(default_urdf_path())
+    robot.lock_joints(['joint_6'], [0.1])
+    robot.set_robot_state(Q0, np.zeros(6))
+    c = orca.Controller('c', robot)
+    ee = c.add_task(orca.CartesianTask, 'ee')
+    ee.set_control_frame('link_7')
+    posture = c.add_task(orca.JointAccelerationTask, 'posture')
+    posture.set_weight(1e-4)
+    posture.set_desired(Q0, np.zeros(6), np.zeros(6))
+    for lim in (orca.JointTorqueLimitConstraint, orca.JointPositionLimitConstraint,
+                orca.JointVelocityLimitConstraint, orca.JointAccelerationLimitConstraint):
+        c.add_constraint(lim, lim.__name__)
+    c.activate_tasks_and_constraints()
+    assert c.update(0.0, 1e-3)
+    cc = c.compiled_cycle
+    assert cc.fused is not None, cc.describe()
+    calls = []
+    if one_call:  # count the kernel's calls (bound again with a new model)
+        fused, bind = cc.fused, cc.fused.bind
+
+        def counting(ws):
+            bind(ws)
+            step = fused._step
+            fused._step = lambda *a: calls.append(1) or step(*a)
+
+        fused.bind = counting
+        counting(cc.ws)
+    else:
+        cc.fused = None
+    return robot, c, ee, calls
+
+
+def test_the_one_call_cycle_equals_the_three_calls_through_failures_and_a_weld():
+    runs = [_controller(True), _controller(False)]
+    pose = runs[0][0].get_frame_pose('link_7').copy()
+    limits = {}
+    for _, c, _, _ in runs:
+        for name in ('JointTorqueLimitConstraint', 'JointAccelerationLimitConstraint'):
+            limits[name] = c.get_constraint(name).get_limits()
+    codes, warm = [], []
+    for k in range(1, 400):
+        t = k * 1e-3
+        if k == 150:  # no torque both holds the arm and keeps within these
+            for _, c, _, _ in runs:
+                c.get_constraint('JointTorqueLimitConstraint').set_limits(-0.1, 0.1)
+                c.get_constraint('JointAccelerationLimitConstraint').set_limits(-1e-3, 1e-3)
+        if k == 180:
+            for _, c, _, _ in runs:
+                for name, lim in limits.items():
+                    c.get_constraint(name).set_limits(*lim)
+        if k == 250:  # the locked joint moved: a new model and Data
+            data = runs[0][0].data
+            assert all(r.set_locked_joint_positions([0.3]) for r, _, _, _ in runs)
+            assert runs[0][0].data is not data
+        target = pose.copy()
+        target[:3, 3] += 0.1 * np.array([np.sin(3 * t), np.cos(2 * t) - 1.0, np.sin(t)])
+        q = Q0 + 0.2 * np.sin(np.arange(1, 7) * 2.0 * t)
+        v = 0.4 * np.cos(np.arange(1, 7) * 2.0 * t)
+        warm.append(runs[0][1].compiled_cycle.fused.ready())
+        out = []
+        for robot, c, ee, _ in runs:
+            robot.set_robot_state(q, v)
+            ee.servo_controller().set_desired(target)
+            out.append((c.update(t, 1e-3), c.get_return_code(), c.get_joint_torque_command()))
+        (ok, code, tau), (ok3, code3, tau3) = out
+        assert (ok, code) == (ok3, code3), k
+        np.testing.assert_allclose(tau, tau3, rtol=1e-12, atol=1e-12, err_msg=str(k))
+        codes.append(code)
+    failed = [k for k, code in enumerate(codes, 1) if code is not ReturnCode.SUCCESS]
+    assert failed == list(range(150, 180)), failed
+    # every cycle that starts warm (the one before it solved) took the one call
+    assert sum(warm) == len(runs[0][3]) >= len(codes) - 40
+    assert warm[150 - 1] and not warm[151 - 1] and not warm[180 - 1] and warm[181 - 1]
+    # the time model of the one-call path: the solve's time by the kernel's clock
+    b = runs[0][1].compiled_cycle.problem.backend
+    assert 0.0 < b._fixed < 1e-3
+
+
+def test_the_kernels_clock_reads_the_monotonic_clock():
+    assert clock.unavailable_reason() is None
+    fn = clock.address()
+    for _ in range(100):
+        before = time.monotonic_ns()
+        ours = clock._read(fn)
+        after = time.monotonic_ns()
+        assert before <= ours <= after
