@@ -43,7 +43,7 @@ _I32, _I64 = ir.IntType(32), ir.IntType(64)
 @intrinsic
 def monotonic_ns(typingctx, fn):
     """
-    The monotonic clock in nanoseconds, by ``clock_gettime`` at address fn.
+    Read the monotonic clock in nanoseconds, by ``clock_gettime`` at address fn.
 
     C: ``int clock_gettime(clockid_t, struct timespec *)``; timespec is two 64-bit words (LP64).
     """
@@ -71,7 +71,7 @@ def _read(fn):
 
 
 def address() -> int:
-    """The address of the C library's clock_gettime (0: none found)."""
+    """Return the address of the C library's clock_gettime (0: none found)."""
     try:
         return ctypes.cast(ctypes.CDLL(None).clock_gettime, ctypes.c_void_p).value or 0
     except (OSError, AttributeError):

@@ -172,7 +172,7 @@ class DirectDAQPBackend(QPBackend):
         return self._ran(flag, iters, time.perf_counter() - t0)
 
     def _ran(self, flag: int, iters: int, seconds: float) -> ReturnCode:
-        """Return the code of a solve that took ``seconds`` (the time model updated, reset on failure)."""
+        """Return the code of a solve of ``seconds`` (the time model updated, reset on failure)."""
         self.iterations = iters
         self.record(seconds, iters)
         if flag == 1:
