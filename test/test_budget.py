@@ -114,6 +114,10 @@ def test_the_controller_gives_each_cycle_one_period(lwr_urdf, monkeypatch):
     monkeypatch.setattr(base.QPBackend, 'iteration_cap', spy)
     assert c.update(0.0, 2e-3)  # a configuration cycle: not time-bounded
     assert deadlines and set(deadlines) == {None}
+    fused = getattr(c.compiled_cycle, 'fused', None)
+    if fused is not None:  # the one-call cycle's kernel caps its solve itself (fused_step.py)
+        step = fused._step
+        fused._step = lambda *a: deadlines.append(a[3]) or step(*a)
     for dt in (1e-3, 5e-3):
         deadlines.clear()
         start = base.time.perf_counter()

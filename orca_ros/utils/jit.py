@@ -38,7 +38,8 @@ caching = optional_import('numba.core.caching', 'the compiled control cycle')
 
 _PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _SOURCES = sorted(
-    glob.glob(os.path.join(_PACKAGE, 'optim', 'compiled', '*.py')) + [os.path.abspath(__file__)]
+    glob.glob(os.path.join(_PACKAGE, 'optim', 'compiled', '*.py'))
+    + [os.path.join(_PACKAGE, 'optim', 'solvers', 'time_model.py'), os.path.abspath(__file__)]
 )
 
 

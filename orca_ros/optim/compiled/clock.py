@@ -100,4 +100,9 @@ def _check() -> str | None:
     after = time.monotonic_ns()
     if not before <= ours <= after:
         return f'clock_gettime by kernel read {ours} ns, outside [{before}, {after}]'
+    # deadlines are time.perf_counter() instants: the same clock, in seconds
+    first = time.perf_counter()
+    ours = _read(fn) * 1e-9
+    if not first - 1e-6 <= ours <= time.perf_counter() + 1e-6:
+        return f'time.perf_counter is not the monotonic clock here ({first} s, {ours} s)'
     return None

@@ -18,9 +18,9 @@ Where the compiled cycle solves its only level by kernel (:mod:`.direct_daqp`), 
 kernel calls of a cycle (:func:`.cycle_kernel.run`, the solve, :func:`.cycle_kernel.finish`)
 and the Python between them (~6 us on the Panda) become one call of
 :func:`.cycle_kernel.step`. What the solve does is the same: the iteration cap from the time
-left (taken before the call: the rows' few microseconds are the budget's margin), the solve
-timed alone for the solver's time model (by the clock in the kernel, :mod:`.clock`), a failed
-warm solve retried cold with what is left of the cap, then the level's failure handling.
+left when the solve starts, the solve timed alone for the solver's time model (both in the
+kernel: :mod:`.clock`, :mod:`..solvers.time_model`), a failed warm solve retried cold with
+what is left of the cap, then the level's failure handling.
 
 Taken only while DAQP's workspace is set up (a warm start): the first solve and the one after
 a failure set it up in Python, on the cycle's three-call path; so does a cycle that must
@@ -34,6 +34,7 @@ from ..solvers import ReturnCode
 from ...utils.jit import entry
 
 _SUCCESS = ReturnCode.SUCCESS
+_NONE = float('inf')  # no deadline
 
 
 class FusedStep:
@@ -52,8 +53,9 @@ class FusedStep:
     def bind(self, ws) -> None:
         """Compile (or load) the kernel for the workspace's types (again on a new one)."""
         self.ws = ws
-        self._step = entry(cycle_kernel.step, ws, self.backend._state, 1e-3, 0, self.clock,
-                           *self.outs)
+        b = self.backend
+        self._step = entry(cycle_kernel.step, ws, b._state, 1e-3, 1.0, 1, 1, b.timing,
+                           self.clock, *self.outs)
 
     def ready(self) -> bool:
         """Whether DAQP's workspace holds the last solve's active set (a warm start)."""
@@ -68,16 +70,18 @@ class FusedStep:
         """
         b, problem = self.backend, self.problem
         b.deadline = deadline
-        b.max_iterations = max_iterations or b.default_max_iterations
-        cap = b.iteration_cap()
-        flags, flag, iters, ns = self._step(self.ws, b._state, dt, cap, self.clock, *self.outs)
-        self.cycle.plan.box_conflicts += flags & 1
-        if flag == 1:
-            problem.built_finite = True
+        b.max_iterations = most = max_iterations or b.default_max_iterations
+        flags, flag, iters, cap, ns = self._step(
+            self.ws, b._state, dt, _NONE if deadline is None else deadline, most,
+            b.min_iterations, b.timing, self.clock, *self.outs)
+        if flag == 1:  # the time model updated, the solution written out
             b.iterations = iters
-            b.record(ns * 1e-9, iters)
             problem.return_code = _SUCCESS
+            problem.built_finite = True
+            if flags:
+                self.cycle.plan.box_conflicts += flags & 1
             return _SUCCESS
+        self.cycle.plan.box_conflicts += flags & 1
         problem.built_finite = flag != cycle_kernel.NOT_BUILT
         if not problem.built_finite:
             code = ReturnCode.NON_FINITE_PROBLEM

@@ -34,26 +34,7 @@ import time
 
 import numpy as np
 
-
-def _robust(estimate: float, sample: float) -> float:
-    """
-    Update a running estimate that follows a rise quickly and a fall slowly.
-
-    A harder problem: the cap must shrink at once. A sample far above it (a preempted solve) moves
-    it at most to 1.6x.
-    """
-    if estimate == 0.0:
-        return sample
-    if sample > estimate:
-        return 0.7 * estimate + 0.3 * min(sample, 3.0 * estimate)
-    return 0.95 * estimate + 0.05 * sample
-
-
-# share of the time left that the iteration cap is computed for: the cost of an iteration varies
-# with the problem (a failing solve's iterations cost up to ~2.5x a warm feasible one's, measured
-# with ProxQP), so the model's estimate may be low by that much on the first hard cycle without the
-# cycle overrunning its budget
-_TIME_SHARE = 0.4
+from .time_model import iteration_cap, record
 
 
 class QPSolver(Enum):
@@ -95,8 +76,25 @@ class QPBackend:
         self.iterations = 0
         self.max_iterations = self.default_max_iterations
         self.deadline: float | None = None
-        self._fixed = 0.0  # seconds of a solve of one or two iterations
-        self._per = 0.0  # seconds per further iteration
+        # the solve-time model (time_model.py): seconds of a solve of one or two iterations,
+        # seconds per further iteration
+        self.timing = np.zeros(2)
+
+    @property
+    def _fixed(self) -> float:
+        return float(self.timing[0])
+
+    @_fixed.setter
+    def _fixed(self, value: float) -> None:
+        self.timing[0] = value
+
+    @property
+    def _per(self) -> float:
+        return float(self.timing[1])
+
+    @_per.setter
+    def _per(self, value: float) -> None:
+        self.timing[1] = value
 
     def iteration_cap(self, now: float | None = None) -> int:
         """
@@ -104,32 +102,15 @@ class QPBackend:
 
         ``now``: the time.perf_counter() instant, when the caller has it.
         """
-        cap, deadline, fixed = self.max_iterations, self.deadline, self._fixed
-        if deadline is None or fixed <= 0.0:
-            return cap
-        if now is None:
-            now = time.perf_counter()
-        per = self._per or fixed
-        n = (_TIME_SHARE * (deadline - now) - fixed) / per  # the further iterations that fit
-        # min(cap, max(min_iterations, 1 + int(n))), in the control cycle's hot path
-        least = self.min_iterations
-        if n < least - 1:
-            return least
-        return 1 + int(n) if n < cap else cap  # (n may be inf: a solve model of ~0 s)
+        deadline = self.deadline
+        if deadline is None:
+            return self.max_iterations
+        left = deadline - (time.perf_counter() if now is None else now)
+        return iteration_cap(self.timing, left, self.max_iterations, self.min_iterations)
 
     def record(self, seconds: float, iterations: int) -> None:
-        """
-        Update the solve-time model t = fixed + (iterations - 1) * per with one solve.
-
-        The estimates are robust running ones: a sample far above them (e.g. a preempted solve)
-        moves them little.
-        """
-        it, fixed = int(iterations), self._fixed
-        if it <= 2 or fixed == 0.0:
-            self._fixed = _robust(fixed, seconds if it <= 2 else seconds / it)
-        else:
-            extra = seconds - fixed
-            self._per = _robust(self._per, (extra if extra > 0.0 else 0.0) / (it - 1))
+        """Update the solve-time model with one solve (time_model.py)."""
+        record(self.timing, seconds, int(iterations))
 
     def solve(self, H, g, A, b, C, lc, u, lbox, ubox) -> ReturnCode:
         raise NotImplementedError
