@@ -220,6 +220,9 @@ class RobotModel(FrameApiMixin, JointLockingMixin):
         Or ``set_robot_state(world_H_base, q, base_twist_world, v, gravity)`` (also valid for a
         fixed base: the base transform/twist are then ignored and only the gravity is applied).
         """
+        fast = self._state_kernel  # the common input, by kernel (made by a compiled cycle)
+        if fast is not None and len(args) == 2 and fast.joint_state(*args):
+            return
         self._require_model()
         state_input.set_joint_and_base_state(self, args)
 
@@ -230,6 +233,9 @@ class RobotModel(FrameApiMixin, JointLockingMixin):
         ``q`` of size nq (floating base: position, unit quaternion x y z w, then the joints), ``v``
         of size nv (floating base: the base twist in the base frame, then the joints).
         """
+        fast = self._state_kernel  # by kernel, as set_robot_state
+        if fast is not None and fast.configuration(q, v):
+            return
         self._require_model()
         state_input.set_configuration(self, q, v)
 

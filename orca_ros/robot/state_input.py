@@ -66,11 +66,6 @@ def checked(robot, x, shape, what) -> np.ndarray:
 def set_joint_and_base_state(robot, args) -> None:
     """``(q, v)`` for a fixed base, or ``(world_H_base, q, base_twist_world, v, gravity)``."""
     if len(args) == 2:
-        fast = robot._state_kernel
-        if fast is not None and fast.joint_state(robot, *args):
-            robot._stamp += 1
-            robot._initialized = True
-            return
         if robot.floating_base:
             raise ValueError(
                 'floating-base robot: use set_robot_state(world_H_base, q, base_twist, v, gravity)'
@@ -118,13 +113,6 @@ def set_joint_and_base_state(robot, args) -> None:
 
 
 def set_configuration(robot, q, v) -> None:
-    fast = robot._state_kernel
-    if fast is not None and fast.configuration(robot, q, v):
-        if robot.floating_base:
-            robot._base_from_q_pin = True
-        robot._stamp += 1
-        robot._initialized = True
-        return
     model = robot.model
     q = checked(robot, q, (model.nq,), 'configuration q')
     v = checked(robot, v, (model.nv,), 'velocity v')

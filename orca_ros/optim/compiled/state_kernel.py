@@ -87,34 +87,60 @@ def joint_state(q, v, q_pin, v_pin, q_out, v_out):
     return _OK
 
 
+_F64 = np.dtype(np.float64)
+
+
 def _fits(a, n) -> bool:
     # exactly the type the kernels' entry points were compiled for (see utils.jit.entry)
-    return (type(a) is np.ndarray and a.dtype == np.float64 and a.shape == (n,)
-            and a.flags.c_contiguous and a.flags.aligned)
+    if type(a) is not np.ndarray or a.shape != (n,):
+        return False
+    d, f = a.dtype, a.flags
+    return (d is _F64 or d == _F64) and f.c_contiguous and f.aligned
 
 
 class StateKernel:
-    """The robot's fast state input (see the module); compiled or loaded when made."""
+    """
+    The robot's fast state input (see the module); compiled or loaded when made.
+
+    Made for one Pinocchio model of the robot (its arrays and sizes): a new model comes with
+    a new one (``RobotModel._state_kernel`` is reset with the model).
+    """
 
     def __init__(self, robot, tol: float):
         self.tol = tol
-        r = robot
+        self.robot = r = robot
+        self.q_pin, self.v_pin, self.q, self.v = r._q_pin, r._v_pin, r._q, r._v
+        self.nq, self.nv, self.ndof, self.nb = r.model.nq, r.model.nv, r.ndof, r.nbase
+        # no continuous joints (cos, sin in q_pin) and, for joint_state, a fixed base
+        self.simple = r._q_simple
+        self.fixed = r._q_simple and not r.floating_base
         q, v = r._q_pin.copy(), r._v_pin.copy()
         self._configuration = entry(
             configuration, q, v, q.copy(), v.copy(), r._q.copy(), r._v.copy(), r.nbase, tol
         )
         self._joint_state = entry(joint_state, r._q.copy(), r._v.copy(), q, v, r._q, r._v)
 
-    def configuration(self, robot, q, v) -> bool:
-        """Return True when the state was taken; False: the Python path takes (or refuses) it."""
-        r = robot
-        if not (r._q_simple and _fits(q, r.model.nq) and _fits(v, r.model.nv)):
+    def configuration(self, q, v) -> bool:
+        """Take Pinocchio's (q, v): True when taken; False: the Python path takes (or refuses) it."""
+        if not (self.simple and _fits(q, self.nq) and _fits(v, self.nv)) or self._configuration(
+            q, v, self.q_pin, self.v_pin, self.q, self.v, self.nb, self.tol
+        ) != _OK:
             return False
-        return self._configuration(q, v, r._q_pin, r._v_pin, r._q, r._v, r.nbase, self.tol) == _OK
+        r = self.robot
+        if self.nb:
+            r._base_from_q_pin = True
+        r._stamp += 1
+        r._initialized = True
+        return True
 
-    def joint_state(self, robot, q, v) -> bool:
-        """Return True when a fixed base's (q, v) was taken; False: the Python path's."""
-        r = robot
-        if r.floating_base or not (r._q_simple and _fits(q, r.ndof) and _fits(v, r.ndof)):
+    def joint_state(self, q, v) -> bool:
+        """Take a fixed base's (q, v): True when taken; False: the Python path's."""
+        n = self.ndof
+        if not (self.fixed and _fits(q, n) and _fits(v, n)) or self._joint_state(
+            q, v, self.q_pin, self.v_pin, self.q, self.v
+        ) != _OK:
             return False
-        return self._joint_state(q, v, r._q_pin, r._v_pin, r._q, r._v) == _OK
+        r = self.robot
+        r._stamp += 1
+        r._initialized = True
+        return True
