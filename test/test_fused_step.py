@@ -17,7 +17,9 @@ The one-call cycle (optim/compiled/fused_step.py) against the compiled cycle's t
 Two controllers on the same arm see the same states and targets; one has its one-call path
 taken away. Along a run whose problem turns infeasible and back, and whose locked joint is
 welded again (a new Pinocchio model and Data): the same return codes and the same torques,
-the one-call path taken on every cycle that starts warm. The kernel's clock, which times the
+the one-call path taken on every cycle that starts warm. With levels below (strict and
+generalized priorities), the first level by one call and the rest by the cascade: the same
+closed loop. The kernel's clock, which times the
 solve for the solver's time model, reads what ``time.monotonic_ns`` reads.
 """
 
@@ -127,3 +129,47 @@ def test_the_kernels_clock_reads_the_monotonic_clock():
         assert before <= ours <= after
         first = time.perf_counter()  # deadlines are its instants
         assert first - 1e-6 <= clock._read(fn) * 1e-9 <= time.perf_counter() + 1e-6
+
+
+@pytest.mark.parametrize('strategy', ['multi_level_weighted', 'generalized'])
+def test_levels_below_follow_the_one_call_first_level(strategy):
+    """The first level by one call, the levels below by the cascade: the same closed loop."""
+    from orca_ros.examples.common import (
+        add_conflicting_stack, add_standard_constraints, integrate, STACK_Q0,
+    )
+
+    runs = []
+    for one_call in (True, False):
+        robot = orca.RobotModel()
+        robot.load_model_from_file(default_urdf_path())
+        robot.set_robot_state(STACK_Q0, np.zeros(7))
+        c = orca.Controller('c', robot, strategy)
+        add_conflicting_stack(c, 3)
+        add_standard_constraints(c)
+        if strategy == 'generalized':  # priority 0.5 between every pair of levels
+            names = [t.name for t in c.get_tasks()]
+            for i, hi in enumerate(names):
+                for lo in names[i + 1:]:
+                    c.set_priority(hi, lo, 0.5)
+        c.activate_tasks_and_constraints()
+        assert c.update(0.0, 1e-3)
+        cc = c.compiled_cycle
+        assert cc.fused is not None and cc.cascade is not None, cc.describe()
+        calls = []
+        if one_call:
+            step = cc.fused._step
+            cc.fused._step = lambda *a, step=step, calls=calls: calls.append(1) or step(*a)
+        else:
+            cc.fused = None
+        runs.append((robot, c, calls))
+    q, v = STACK_Q0.copy(), np.zeros(7)
+    for k in range(1, 300):
+        out = []
+        for robot, c, _ in runs:
+            robot.set_robot_state(q, v)
+            assert c.update(k * 1e-3, 1e-3)
+            out.append(c.get_joint_torque_command())
+        np.testing.assert_allclose(out[0], out[1], rtol=1e-12, atol=1e-12, err_msg=str(k))
+        q, v = integrate(runs[0][0], q, v, out[0], 1e-3)
+    assert len(runs[0][2]) == 299
+    assert np.linalg.norm(v) > 0.1  # the stack moved the arm

@@ -281,15 +281,9 @@ class Controller(TaskRegistryMixin):
             for obj in self._updated:
                 obj.update(current_time, dt)
             self._plan.update()
-        if fused is _SUCCESS:  # solved, solution written out
-            levels.contacts_relaxed = False
-            problem, code, dropped = None, fused, False
-        elif fused is not None:
-            levels.contacts_relaxed = False
-            problem, code, dropped = levels.first_failed(cc.problem, fused, deadline,
-                                                         self._max_iterations)
-        elif cc is not None and cc.steady:  # every level solved by kernel
-            problem, code, dropped = cc.solve(levels, deadline, self._max_iterations, self.name)
+        if cc is not None and (cc.steady or fused is not None):  # every level by kernel
+            problem, code, dropped = cc.solve(levels, deadline, self._max_iterations, self.name,
+                                              fused)
         else:
             problem, code, dropped = levels.solve(
                 deadline, self._max_iterations, self.priorities, self.name
@@ -297,7 +291,7 @@ class Controller(TaskRegistryMixin):
         self.dropped_levels += dropped
         self._return_code = code
         if code is _SUCCESS:
-            if problem is not None:  # else the one-call cycle wrote it out
+            if problem is not None:  # (None: the one-call cycle wrote it out)
                 self._write_out(problem.x, cc)
             if self._remove_gravity or self._remove_coriolis:
                 self._make_command()

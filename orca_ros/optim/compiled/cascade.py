@@ -180,11 +180,16 @@ class CompiledCascade:
         for lev in self.lower:
             lev.flags()
 
-    def solve(self, deadline, max_iterations, name: str):
-        """Solve every level in priority order, as ``PriorityLevels.solve`` returns."""
-        solved, code, dropped = self.cycle.solve_first(self.levels, deadline, max_iterations)
-        if code is not _SUCCESS:
-            return solved, code, dropped
+    def solve(self, deadline, max_iterations, name: str, solved=None):
+        """
+        Solve every level in priority order, as ``PriorityLevels.solve`` returns.
+
+        ``solved``: the first level's problem when it is solved already (the one-call cycle).
+        """
+        if solved is None:
+            solved, code, dropped = self.cycle.solve_first(self.levels, deadline, max_iterations)
+            if code is not _SUCCESS:
+                return solved, code, dropped
         if self.priorities.version != self._version:
             for lev in self.lower:
                 lev.read_priorities(self.priorities)

@@ -44,6 +44,7 @@ from ...utils.jit import entry
 from ...utils.logger import get_logger
 
 _LOG = get_logger('compiled')
+_SUCCESS = ReturnCode.SUCCESS
 
 
 class CompiledCycle(CycleContacts):
@@ -123,8 +124,8 @@ class CompiledCycle(CycleContacts):
         return True
 
     def _fuse(self, controller):
-        """Make the one-call cycle (FusedStep): one level solved by kernel, bounds by kernel."""
-        if not self.steady or self.cascade is not None:
+        """Make the one-call cycle (FusedStep): the first level solved by kernel, bounds too."""
+        if not self.steady:
             return None
         if self.plan.contacts and not self.owns_layout:
             return None  # the contacts' wrench bounds may change on any cycle (update)
@@ -259,11 +260,23 @@ class CompiledCycle(CycleContacts):
             self._derive[0] = 1  # the first kernel derives the drifts
             self._pass_stamp = r._stamp
 
-    def solve(self, levels, deadline, max_iterations, name: str):
-        """Solve every level by kernel (when ``steady``), as ``levels.solve`` returns."""
+    def solve(self, levels, deadline, max_iterations, name: str, first=None):
+        """
+        Solve every level by kernel (when ``steady``), as ``levels.solve`` returns.
+
+        ``first``: the first level's code where update() solved it (the one-call cycle); then
+        the problem returned is None when the solution is written out already.
+        """
+        if first is None:
+            if self.cascade is not None:
+                return self.cascade.solve(deadline, max_iterations, name)
+            return self.solve_first(levels, deadline, max_iterations)
+        levels.contacts_relaxed = False
+        if first is not _SUCCESS:
+            return levels.first_failed(self.problem, first, deadline, max_iterations)
         if self.cascade is not None:
-            return self.cascade.solve(deadline, max_iterations, name)
-        return self.solve_first(levels, deadline, max_iterations)
+            return self.cascade.solve(deadline, max_iterations, name, self.problem)
+        return None, first, False
 
     def solve_first(self, levels, deadline, max_iterations):
         """

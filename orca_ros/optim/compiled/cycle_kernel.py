@@ -104,7 +104,7 @@ _record = njit(time_model.record)
 
 
 @njit
-def step(ws, s, dt, deadline, max_iterations, least, timing, clock, x_out, acc_out, tau,
+def step(ws, s, dt, deadline, max_iterations, least, timing, clock, out, x_out, acc_out, tau,
          tau_cmd):
     """
     Fill, assemble, solve the first level warm (DAQP, ``s``), write the solution out.
@@ -112,8 +112,8 @@ def step(ws, s, dt, deadline, max_iterations, least, timing, clock, x_out, acc_o
     The solve as :func:`.daqp_kernel.solve` with every part of the problem updated, capped
     by the solver's time model ``timing`` (:mod:`..solvers.time_model`) from the time left to
     ``deadline`` (a ``time.perf_counter`` instant; inf: none) when it starts, timed by the
-    clock at address ``clock`` (:mod:`.clock`); the model updated and the solution written out
-    (:func:`finish`) when it succeeded. Returns (run's flags, DAQP's exit flag or NOT_BUILT,
+    clock at address ``clock`` (:mod:`.clock`); when it succeeded, the model updated and, with
+    ``out`` (no level below), the solution written out (:func:`finish`). Returns (run's flags, DAQP's exit flag or NOT_BUILT,
     its iterations, the cap, the solve's nanoseconds).
     """
     flags = run(ws, dt)
@@ -125,5 +125,6 @@ def step(ws, s, dt, deadline, max_iterations, least, timing, clock, x_out, acc_o
     ns = monotonic_ns(clock) - start
     if flag == 1:
         _record(timing, ns * 1e-9, iters)
-        finish(ws, s.x, x_out, acc_out, tau, tau_cmd)
+        if out:
+            finish(ws, s.x, x_out, acc_out, tau, tau_cmd)
     return flags, flag, iters, cap, ns

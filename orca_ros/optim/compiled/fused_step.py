@@ -12,15 +12,16 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-A one-level cycle in one kernel call: rows, assembly, DAQP's warm solve, torques.
+The cycle up to the first level's solution in one kernel call: rows, assembly, DAQP's warm solve.
 
-Where the compiled cycle solves its only level by kernel (:mod:`.direct_daqp`), the three
-kernel calls of a cycle (:func:`.cycle_kernel.run`, the solve, :func:`.cycle_kernel.finish`)
+Where the compiled cycle solves its first level by kernel (:mod:`.direct_daqp`), its kernel
+calls (:func:`.cycle_kernel.run`, the solve, and for one level :func:`.cycle_kernel.finish`)
 and the Python between them (~6 us on the Panda) become one call of
 :func:`.cycle_kernel.step`. What the solve does is the same: the iteration cap from the time
 left when the solve starts, the solve timed alone for the solver's time model (both in the
 kernel: :mod:`.clock`, :mod:`..solvers.time_model`), a failed warm solve retried cold with
-what is left of the cap, then the level's failure handling.
+what is left of the cap, then the level's failure handling. Levels below, if any, follow
+(:mod:`.cascade`).
 
 Taken only while DAQP's workspace is set up (a warm start): the first solve and the one after
 a failure set it up in Python, on the cycle's three-call path; so does a cycle that must
@@ -48,6 +49,9 @@ class FusedStep:
         # re-layout of its variables configures it again, and with it this)
         self.outs = (controller._x, controller._acc, controller._tau, controller._tau_cmd)
         self.clock = clock.address()
+        # the solution written out by the kernel where no level comes below (else the last
+        # level's is, by the controller)
+        self.out = int(cycle.cascade is None)
         self.bind(cycle.ws)
 
     def bind(self, ws) -> None:
@@ -55,7 +59,7 @@ class FusedStep:
         self.ws = ws
         b = self.backend
         self._step = entry(cycle_kernel.step, ws, b._state, 1e-3, 1.0, 1, 1, b.timing,
-                           self.clock, *self.outs)
+                           self.clock, 1, *self.outs)
 
     def ready(self) -> bool:
         """Whether DAQP's workspace holds the last solve's active set (a warm start)."""
@@ -63,7 +67,8 @@ class FusedStep:
 
     def __call__(self, dt: float, deadline, max_iterations) -> ReturnCode:
         """
-        Run the cycle from the rows on; SUCCESS: the solution is written out.
+        Run the cycle from the rows on; SUCCESS: the first level is solved (and, without
+        levels below, its solution written out).
 
         Any other code is the first level's, as ``CompiledCycle.solve_first`` leaves it before
         the level's failure handling (``PriorityLevels.first_failed``).
@@ -73,7 +78,7 @@ class FusedStep:
         b.max_iterations = most = max_iterations or b.default_max_iterations
         flags, flag, iters, cap, ns = self._step(
             self.ws, b._state, dt, _NONE if deadline is None else deadline, most,
-            b.min_iterations, b.timing, self.clock, *self.outs)
+            b.min_iterations, b.timing, self.clock, self.out, *self.outs)
         if flag == 1:  # the time model updated, the solution written out
             b.iterations = iters
             problem.return_code = _SUCCESS
@@ -89,7 +94,7 @@ class FusedStep:
             code = b._ran(flag, iters, ns * 1e-9)
             if code is not _SUCCESS and iters < cap:
                 code = b._cold(cap - iters)  # once more, cold
-            if code is _SUCCESS:
+            if code is _SUCCESS and self.out:
                 self.cycle.finish(problem.x, *self.outs)
         problem.return_code = code
         return code
