@@ -107,14 +107,14 @@ _record = njit(time_model.record)
 def step(ws, s, dt, deadline, max_iterations, least, timing, clock, out, x_out, acc_out, tau,
          tau_cmd):
     """
-    Fill, assemble, solve the first level warm (DAQP, ``s``), write the solution out.
+    Fill, assemble, solve the first level warm (DAQP, ``s``), write the solution out (``out``).
 
     The solve as :func:`.daqp_kernel.solve` with every part of the problem updated, capped
     by the solver's time model ``timing`` (:mod:`..solvers.time_model`) from the time left to
     ``deadline`` (a ``time.perf_counter`` instant; inf: none) when it starts, timed by the
     clock at address ``clock`` (:mod:`.clock`); when it succeeded, the model updated and, with
-    ``out`` (no level below), the solution written out (:func:`finish`). Returns (run's flags, DAQP's exit flag or NOT_BUILT,
-    its iterations, the cap, the solve's nanoseconds).
+    ``out`` (no level below), the solution written out (:func:`finish`). Returns (run's flags,
+    DAQP's exit flag or NOT_BUILT, its iterations, the cap, the solve's nanoseconds).
     """
     flags = run(ws, dt)
     if flags & 2:

@@ -67,8 +67,9 @@ class FusedStep:
 
     def __call__(self, dt: float, deadline, max_iterations) -> ReturnCode:
         """
-        Run the cycle from the rows on; SUCCESS: the first level is solved (and, without
-        levels below, its solution written out).
+        Run the cycle from the rows on to the first level's solution; SUCCESS: solved.
+
+        Without levels below, its solution is written out too.
 
         Any other code is the first level's, as ``CompiledCycle.solve_first`` leaves it before
         the level's failure handling (``PriorityLevels.first_failed``).

@@ -121,7 +121,7 @@ class StateKernel:
         self._joint_state = entry(joint_state, r._q.copy(), r._v.copy(), q, v, r._q, r._v)
 
     def configuration(self, q, v) -> bool:
-        """Take Pinocchio's (q, v): True when taken; False: the Python path takes (or refuses) it."""
+        """Take Pinocchio's (q, v): True when taken; False: the Python path takes or refuses it."""
         if not (self.simple and _fits(q, self.nq) and _fits(v, self.nv)) or self._configuration(
             q, v, self.q_pin, self.v_pin, self.q, self.v, self.nb, self.tol
         ) != _OK:
