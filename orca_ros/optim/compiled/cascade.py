@@ -27,11 +27,10 @@ cycle, said in the debug log, as there.
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 
-from . import direct_daqp, lower_level as L
+from . import clock, direct_daqp, lower_level as L
 from ..generalized import band_share
 from ..solvers import ReturnCode
 from ...utils.jit import entry
@@ -41,10 +40,14 @@ _LOG = get_logger('optim')
 _SUCCESS = ReturnCode.SUCCESS
 _NOTHING = object()  # a level without weighted tasks this cycle
 _STRICT = object()  # a level whose locks are all strict this cycle
+_NO_DEADLINE = float('inf')  # (a kernel's deadline)
 
 
 def unlowered_reason(levels) -> str | None:
     """Why the levels below the first cannot be solved by kernel (None: they can)."""
+    why = clock.unavailable_reason()  # (their kernels time their solves)
+    if why is not None:
+        return why
     for p in levels.problems[1:]:
         if p._null_space is not None:
             return 'a solver other than DAQP'
@@ -129,8 +132,9 @@ class _Level:
             nx, p.n_eq, ni, scale, (self.Hd, self.g2, p._M, p._lo, p._hi), p.x, p.x_ref
         )
         # compiled (or loaded) here, not in a cycle: prepare, then solve, in one call when warm
-        self.fused = entry(L.prepare_and_solve, self.state, b._state, -1, 0)
-        self.fused(self.state, b._state, -1, 0)
+        self.fused = entry(L.prepare_and_solve, self.state, b._state, -1, 1.0, 0, 0, b.timing,
+                           b.clock)
+        self.fused(self.state, b._state, -1, 1.0, 0, 0, b.timing, b.clock)
         self.reference = self.banded = None
         if reference is not None:  # its weighted reference (the level's cost, no locks); banded
             self.reference = _direct(
@@ -144,7 +148,7 @@ class _Level:
             self.bands(self.state)
             self.fused_gen = entry(
                 L.prepare_and_solve_generalized, self.state, self.reference._state,
-                self.banded._state, b._state, 0,
+                self.banded._state, b._state, 1.0, 0, 0, b.timing, b.clock,
             )
         self.releasing = False  # a locked task is ramping: the level is solved in Python
         self.open = False  # some priority below 1: bands from the reference
@@ -256,17 +260,16 @@ class CompiledCascade:
         p = lev.problem
         ref = _budget(lev.reference, deadline, max_iterations)
         banded, strict = lev.banded, p.locked_backend
-        t0 = time.perf_counter()
-        cap = ref.iteration_cap(t0)
-        flag, it_ref, it, stage = lev.fused_gen(
-            lev.state, ref._state, banded._state, strict._state, cap
+        flag, it_ref, it, stage, cap, ns = lev.fused_gen(
+            lev.state, ref._state, banded._state, strict._state,
+            _NO_DEADLINE if deadline is None else deadline, ref.max_iterations,
+            ref.min_iterations, ref.timing, ref.clock,
         )
         if stage == L.S_BANDED:
             p.band = lev.band
-        if flag > 0:  # the last solve succeeded
+        if flag > 0:  # the last solve succeeded (the time model updated by the kernel)
             ref.iterations = it_ref
             (banded if stage == L.S_BANDED else strict).iterations = it
-            ref.record(time.perf_counter() - t0, it_ref + it)
             return _SUCCESS
         if stage == L.S_PREPARED:
             return flag
@@ -274,7 +277,7 @@ class CompiledCascade:
             if flag == 0:
                 code = ref.solve_bound()  # set up, cold
             else:
-                code = ref._ran(flag, it_ref, time.perf_counter() - t0)
+                code = ref._ran(flag, it_ref, ns * 1e-9)
                 if code is not _SUCCESS and it_ref < cap:
                     code = ref._cold(cap - it_ref)  # once more, cold
             if code is _SUCCESS and lev.bands(lev.state):
@@ -285,7 +288,7 @@ class CompiledCascade:
         ref.iterations = it_ref
         if flag == 0:
             return back.solve_bound()  # set up, cold
-        code = back._ran(flag, it, time.perf_counter() - t0)
+        code = back._ran(flag, it, ns * 1e-9)
         if code is not _SUCCESS and it < cap:
             code = back._cold(cap - it)  # once more, cold
         return code

@@ -23,13 +23,11 @@ from __future__ import annotations
 import math
 
 from .assembly import assemble
-from .clock import monotonic_ns
 from .contacts import contact_terms
 from .daqp_c import UPDATE_ALL
-from .daqp_kernel import solve
+from .daqp_kernel import timed_solve
 from .fill import fill
 from .terms import drift
-from ..solvers import time_model
 from ...utils.jit import njit
 
 
@@ -99,9 +97,6 @@ def finish(ws, x, x_out, acc_out, tau, tau_cmd):
 #: step's exit flag when the first level's H or g is not finite (nothing solved)
 NOT_BUILT = -200
 
-_cap = njit(time_model.iteration_cap)
-_record = njit(time_model.record)
-
 
 @njit
 def step(ws, s, dt, deadline, max_iterations, least, timing, clock, out, x_out, acc_out, tau,
@@ -109,22 +104,17 @@ def step(ws, s, dt, deadline, max_iterations, least, timing, clock, out, x_out, 
     """
     Fill, assemble, solve the first level warm (DAQP, ``s``), write the solution out (``out``).
 
-    The solve as :func:`.daqp_kernel.solve` with every part of the problem updated, capped
-    by the solver's time model ``timing`` (:mod:`..solvers.time_model`) from the time left to
-    ``deadline`` (a ``time.perf_counter`` instant; inf: none) when it starts, timed by the
-    clock at address ``clock`` (:mod:`.clock`); when it succeeded, the model updated and, with
-    ``out`` (no level below), the solution written out (:func:`finish`). Returns (run's flags,
-    DAQP's exit flag or NOT_BUILT, its iterations, the cap, the solve's nanoseconds).
+    The solve as :func:`.daqp_kernel.timed_solve` with every part of the problem updated
+    (capped and timed by the solver's time model ``timing`` and the clock at ``clock``); when
+    it succeeded and with ``out`` (no level below), the solution written out (:func:`finish`).
+    Returns (run's flags, DAQP's exit flag or NOT_BUILT, its iterations, the cap, the solve's
+    nanoseconds).
     """
     flags = run(ws, dt)
     if flags & 2:
         return flags, NOT_BUILT, 0, 0, 0
-    start = monotonic_ns(clock)
-    cap = _cap(timing, deadline - start * 1e-9, max_iterations, least)
-    flag, iters = solve(s, UPDATE_ALL, cap)
-    ns = monotonic_ns(clock) - start
-    if flag == 1:
-        _record(timing, ns * 1e-9, iters)
-        if out:
-            finish(ws, s.x, x_out, acc_out, tau, tau_cmd)
+    flag, iters, cap, ns = timed_solve(s, UPDATE_ALL, deadline, max_iterations, least, timing,
+                                       clock)
+    if flag == 1 and out:
+        finish(ws, s.x, x_out, acc_out, tau, tau_cmd)
     return flags, flag, iters, cap, ns

@@ -31,6 +31,8 @@ from numba import types
 from numba.experimental import structref
 from numba.extending import intrinsic
 
+from .clock import monotonic_ns
+from ..solvers import time_model
 from ...utils.jit import njit
 
 _I8P = ir.IntType(8).as_pointer()
@@ -152,3 +154,36 @@ def solve(s, mask, cap):
         for a in range(x.shape[0]):
             x[a] = base[a] + xs[a] * d[a]
     return flag, iters
+
+
+_cap = njit(time_model.iteration_cap)
+_record = njit(time_model.record)
+
+
+@njit
+def budgeted(timing, deadline, most, least, clock):
+    """
+    Return (the iteration cap, now in ns): the time model's cap for the time left to deadline.
+
+    ``timing``: the back-end's time model (:mod:`..solvers.time_model`); ``deadline``: a
+    ``time.perf_counter`` instant (inf: none); ``most``, ``least``: its iteration bounds;
+    ``clock``: clock_gettime's address (:mod:`.clock`).
+    """
+    start = monotonic_ns(clock)
+    return _cap(timing, deadline - start * 1e-9, most, least), start
+
+
+@njit
+def timed_solve(s, mask, deadline, most, least, timing, clock):
+    """
+    Solve as :func:`solve` with the cap of the time model ``timing`` (see :func:`budgeted`).
+
+    The model takes the solve's time when it succeeds. Returns (flag, iterations, the cap,
+    the solve's nanoseconds).
+    """
+    cap, start = budgeted(timing, deadline, most, least, clock)
+    flag, iters = solve(s, mask, cap)
+    ns = monotonic_ns(clock) - start
+    if flag == 1:
+        _record(timing, ns * 1e-9, iters)
+    return flag, iters, cap, ns

@@ -40,12 +40,13 @@ import weakref
 
 import numpy as np
 
-from . import daqp_c, daqp_kernel as K
+from . import clock, daqp_c, daqp_kernel as K
 from ..solvers.base import QPBackend, ReturnCode
 from ..solvers.daqp_backend import _EQUALITY, _FLAGS
 from ...utils.jit import entry
 
 _NON_FINITE = -100
+_NO_DEADLINE = float('inf')  # (a kernel's deadline)
 
 
 class DirectDAQPBackend(QPBackend):
@@ -89,6 +90,7 @@ class DirectDAQPBackend(QPBackend):
             'iter_at': daqp_c.Result.iter.offset // 4,
         }
         self._ptrs = a['ptrs']
+        self.clock = clock.address()  # (for kernels that time their solve: 0 if none)
         p = self._problem = daqp_c.struct_in(self._pbuf, daqp_c.Problem)
         # the addresses a set-up passes (the buffers never move)
         self._p_addr, self._w_addr = C.addressof(p), self._wbuf.ctypes.data
@@ -212,25 +214,26 @@ class DirectDAQPBackend(QPBackend):
 
     def solve_prepared(self, fused, pre, prepared: int):
         """
-        Solve after a kernel that writes the bound arrays: ``fused(pre, state, mask, cap)``.
+        Solve after a kernel that writes the bound arrays: ``fused(pre, state, mask, budget...)``.
 
-        It prepares, then solves as the solve kernel does (one call when warm); with mask < 0
-        it only prepares (before a cold set-up), returning ``prepared`` when it did. Returns the
-        ReturnCode, or the preparation's flag (an int below ``prepared``) when it did not solve.
+        It prepares, then solves as :func:`.daqp_kernel.timed_solve` does (one call when warm,
+        the cap and the time model in the kernel); with mask < 0 it only prepares (before a
+        cold set-up), returning ``prepared`` when it did. Returns the ReturnCode, or the
+        preparation's flag (an int below ``prepared``) when it did not solve.
         """
-        t0 = time.perf_counter()  # the solve's time includes the cap's (a model erring high)
-        cap = self.iteration_cap(t0)
+        deadline = _NO_DEADLINE if self.deadline is None else self.deadline
         if not self._set_up:
-            flag = fused(pre, self._state, -1, cap)[0]
-            return flag if flag != prepared else self._cold(cap)
-        flag, iters = fused(pre, self._state, daqp_c.UPDATE_ALL, cap)
-        if flag == 1:
+            flag = fused(pre, self._state, -1, deadline, 0, 0, self.timing, self.clock)[0]
+            return flag if flag != prepared else self._cold(self.iteration_cap())
+        flag, iters, cap, ns = fused(pre, self._state, daqp_c.UPDATE_ALL, deadline,
+                                     self.max_iterations, self.min_iterations, self.timing,
+                                     self.clock)
+        if flag == 1:  # (the time model updated by the kernel)
             self.iterations = iters
-            self.record(time.perf_counter() - t0, iters)
             return ReturnCode.SUCCESS
         if flag < prepared:
             return flag
-        code = self._ran(flag, iters, time.perf_counter() - t0)
+        code = self._ran(flag, iters, ns * 1e-9)
         if code is not ReturnCode.SUCCESS and iters < cap:
             code = self._cold(cap - iters)  # once more, cold
         return code

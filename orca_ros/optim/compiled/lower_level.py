@@ -225,17 +225,17 @@ def prepare(s):
 
 
 @njit
-def prepare_and_solve(s, solve_state, mask, cap):
+def prepare_and_solve(s, solve_state, mask, deadline, most, least, timing, clock):
     """
-    Prepare the level, then solve it as :func:`.daqp_kernel.solve` does (one call per cycle).
+    Prepare the level, then solve it as :func:`.daqp_kernel.timed_solve` does (one call).
 
-    Returns its (flag, iterations); when not solved, (PREPARED - prepare's outcome, 0): always
-    with ``mask`` < 0 (prepare only, before a cold set-up).
+    Returns its (flag, iterations, cap, nanoseconds); when not solved, (PREPARED - prepare's
+    outcome, 0, 0, 0): always with ``mask`` < 0 (prepare only, before a cold set-up).
     """
     ready = prepare(s)
     if ready != READY or mask < 0:
-        return PREPARED - ready, 0
-    return K.solve(solve_state, mask, cap)
+        return PREPARED - ready, 0, 0, 0
+    return K.timed_solve(solve_state, mask, deadline, most, least, timing, clock)
 
 
 @njit
@@ -287,23 +287,32 @@ S_PREPARED, S_REFERENCE, S_BANDED, S_STRICT = range(4)
 
 
 @njit
-def prepare_and_solve_generalized(s, ref, banded, strict, cap):
+def prepare_and_solve_generalized(s, ref, banded, strict, deadline, most, least, timing,
+                                  clock):
     """
     Prepare a GENERALIZED level, solve its reference, then its banded (or strict) form.
 
-    One call when every solve is warm. Returns (flag, the reference's iterations, the last
-    solve's iterations, stage): S_PREPARED with PREPARED - prepare's outcome when it is not
-    ready; S_REFERENCE with the reference's flag when it did not solve (0: DAQP not set up);
-    S_BANDED or S_STRICT with that solve's flag (0: not set up), the reference solved.
+    One call when every solve is warm, both solves capped by the reference's time model
+    ``timing`` (:func:`.daqp_kernel.budgeted`), which takes their time and iterations when
+    the last succeeds. Returns (flag, the reference's iterations, the last solve's
+    iterations, stage, cap, nanoseconds): S_PREPARED with PREPARED - prepare's outcome when
+    it is not ready; S_REFERENCE with the reference's flag when it did not solve (0: DAQP not
+    set up); S_BANDED or S_STRICT with that solve's flag (0: not set up), the reference solved.
     """
     ready = prepare(s)
     if ready != READY:
-        return PREPARED - ready, 0, 0, S_PREPARED
+        return PREPARED - ready, 0, 0, S_PREPARED, 0, 0
+    cap, start = K.budgeted(timing, deadline, most, least, clock)
     flag, it_ref = K.solve(ref, UPDATE_ALL, cap)
-    if flag <= 0:
-        return flag, it_ref, 0, S_REFERENCE
-    if bands(s) > 0:
-        flag, it = K.solve(banded, UPDATE_ALL, cap)
-        return flag, it_ref, it, S_BANDED
-    flag, it = K.solve(strict, UPDATE_ALL, cap)
-    return flag, it_ref, it, S_STRICT
+    stage, it = S_REFERENCE, 0
+    if flag > 0:
+        if bands(s) > 0:
+            stage = S_BANDED
+            flag, it = K.solve(banded, UPDATE_ALL, cap)
+        else:
+            stage = S_STRICT
+            flag, it = K.solve(strict, UPDATE_ALL, cap)
+    ns = K.monotonic_ns(clock) - start
+    if flag > 0:
+        K._record(timing, ns * 1e-9, it_ref + it)
+    return flag, it_ref, it, stage, cap, ns
