@@ -91,29 +91,48 @@ def test_far_target_is_refused_at_once_and_the_next_is_reached(arm):
     # so the distance a warning gives names the copy it answers, and that copy's stamp
     sent = []  # (stamp [s], distance from the reach's centre [m])
     centre = robot_reach(probe.robot, 'link_7').center  # to name the copies only
-    t_end = probe.sim_time() + 3.0
-    while probe.sim_time() < t_end:
+    n_warned = len(_warnings(procs, 'out of reach'))
+
+    def copy():
         T = start.copy()
         T[:3, 3] += FAR * (1.0 + 1e-4 * len(sent))
         msg = _stamped(probe, T)
-        pub.publish(msg)
         stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
         sent.append((stamp, float(np.linalg.norm(T[:3, 3] - centre))))
+        return msg
+
+    # refused at once: the first copy, on its own, is refused by name before the arm moved at
+    # all, i.e. on arrival, not once it is tracked (the log, not a wall-clock delay: a copy
+    # reached the controller 0.16 s after it was sent once on a busy machine). Sent again until
+    # then (the same message: a copy lost is not a copy refused late)
+    first = copy()
+    probe.publish_until(lambda: pub.publish(first),
+                        lambda: len(_warnings(procs, 'out of reach')) > n_warned,
+                        "the first copy's refusal", timeout=60.0)
+    moved_first = np.linalg.norm(probe.ee_pose()[:3, 3] - start[:3, 3])
+    t_end = probe.sim_time() + 3.0
+    while probe.sim_time() < t_end:
+        pub.publish(copy())
         time.sleep(0.02)
     moved = np.linalg.norm(probe.ee_pose()[:3, 3] - start[:3, 3])
-    warns = _warnings(procs, 'out of reach')
+    warns = _warnings(procs, 'out of reach')[n_warned:]
     assert warns, procs.log('controller')[-3000:]
-    delays = []
+    named = []
     for t_log, text in warns:
         assert "task 'ee'" in text, text
         asked = float(re.search(r'asked (\d+\.\d+) m', text).group(1))
         k = int(np.argmin([abs(d - asked) for _, d in sent]))
         assert abs(sent[k][1] - asked) < 5e-4, (asked, sent[k])
-        delays.append(t_log - sent[k][0])
-    print(f'far target: {len(warns)} warnings, {max(delays) * 1e3:.1f} ms after their target '
-          f'at worst; the arm moved {moved * 1e3:.3f} mm')
-    # the controller's log stamp against the stamp of the copy it answers (one clock)
-    assert 0.0 <= min(delays) and max(delays) < 0.1, delays
+        # the controller's log stamp after the stamp of the copy it answers (one clock)
+        assert t_log >= sent[k][0], (t_log, sent[k])
+        named.append(k)
+    print(f'far target: {len(warns)} warnings, on copies {named} of {len(sent)}; the arm moved '
+          f'{moved_first * 1e3:.3f} mm by the first, {moved * 1e3:.3f} mm in all')
+    # the first warning names the first copy; each names a copy then arriving (in order, one
+    # a second: the warning is throttled)
+    assert named[0] == 0 and named == sorted(set(named)), named
+    # (measured 0: the arm holds its start, at rest)
+    assert moved_first < 1e-4, f'the arm moved {moved_first * 1e3:.3f} mm before the refusal'
     # the target was ignored: the arm held its previous target (the start)
     assert moved < 1e-3, f'the arm moved {moved * 1e3:.1f} mm towards a refused target'
 

@@ -490,7 +490,12 @@ def test_the_controller_markers_are_drawn_and_deleted(run):
     com = np.array([-0.2, -0.4, 0.1])
     foot, top = np.array([0.05, -0.5, 0.0]), np.array([0.05, -0.5, 0.3])
     where = {'com': tab.project(com), 'arrow': tab.project(0.5 * (foot + top))}
-    before = tab.shot(run['out'] / 'markers_before.png')
+    # the page without markers, the arm at rest: the tests before move it (the ee task toggled
+    # off and on), and on a busy machine it was still on its way here. Its shadow then moved on
+    # to the ball's place, and with the markers gone the page differed from a baseline taken
+    # mid-motion by 2.1 (one shadow's edge), not by the markers
+    before = _still(tab, probe, where)
+    tab.shot(run['out'] / 'markers_before.png')
 
     def marker(ns, kind, action=Marker.ADD):
         m = Marker(ns=ns, id=0, type=kind, action=action)
@@ -512,16 +517,47 @@ def test_the_controller_markers_are_drawn_and_deleted(run):
         return {k: np.abs(_patch(img, xy, 3) - _patch(before, xy, 3)).mean()
                 for k, xy in where.items()}
 
+    # (60 s: a bound for a hung page only; a screenshot takes seconds on a busy machine)
     tab.wait(lambda: pub.publish(MarkerArray(markers=[ball, arrow]))
-             or min(differences().values()) > 40, 20, 'the CoM ball and the arrow on the page')
+             or min(differences().values()) > 40, 60, 'the CoM ball and the arrow on the page')
     shown = differences()
     tab.shot(run['out'] / 'markers.png')
+    # once: the page has this writer's messages (the ADD), and they come in order
     pub.publish(MarkerArray(markers=[marker('', Marker.SPHERE, Marker.DELETEALL)]))
-    tab.wait(lambda: max(differences().values()) < 2, 20, 'the markers gone')
+    tab.wait(lambda: max(differences().values()) < 2, 60, 'the markers gone')
     ball_shown, arrow_shown = shown['com'], shown['arrow']
     print(f'controller markers: mean difference {ball_shown:.1f} (ball), '
           f'{arrow_shown:.1f} (arrow) where they are; '
           f'{max(differences().values()):.2f} after DELETEALL')
+
+
+def _still(tab, probe, where, rest=0.2):
+    """
+    Return a screenshot of the arm at rest, once the page shows it so at ``where``'s patches.
+
+    At rest: every joint slower than 1e-3 rad/s over the last ``rest`` s of simulated time (the
+    arm then creeps less than 1e-4 rad more: not a pixel); shown so: two screenshots in a row
+    alike there (the page draws what the bridge sent a moment ago).
+    """
+    def at_rest():
+        with probe.lock:
+            if not probe.states:
+                return False
+            t_end = probe.states[-1][0]
+            recent = [s for s in probe.states[-2000:] if s[0] >= t_end - rest]
+        return (recent[0][0] <= t_end - rest + 2e-3
+                and all(np.abs(s[2]).max() < 1e-3 for s in recent))
+
+    probe.wait_for(at_rest, 120, 'the arm at rest')
+    shots = [tab.shot()]
+
+    def alike():
+        shots.append(tab.shot())
+        a, b = shots[-2:]
+        return all(np.array_equal(_patch(a, xy, 3), _patch(b, xy, 3)) for xy in where.values())
+
+    tab.wait(alike, 60, 'the page showing the arm at rest')
+    return shots[-1]
 
 
 def probe_point(p):
