@@ -47,14 +47,8 @@ def run(ws, dt):
     Return flags: 1 soft boxes conflicted, 2 the first level's H or g is not finite.
     """
     _drifts(ws)
-    fill(dt, ws.J, ws.oMi, ws.vj, ws.aj, ws.q, ws.v, ws.v_pin, ws.T, ws.t0, ws.E, ws.f, ws.dg_f,
-         ws.M, ws.lo, ws.hi, ws.nx, ws.box_lb, ws.box_ub, ws.cart, ws.cart_sup, ws.jrec,
-         ws.lims, ws.pacc, ws.tab, ws.par, ws.tmp, ws.com, ws.vcom, ws.Jcom, ws.body, ws.crec,
-         ws.Ag, ws.hg, ws.dhg, ws.mrec)
-    flags = assemble(ws.E, ws.f, ws.w, ws.sel, ws.row_task, ws.ew, ws.dg_f, ws.dg_sel,
-                     ws.dg_colw, ws.dg_ws, ws.dg_wsf, ws.dg_tab, ws.dg_ew, ws.n0, ws.nd0, ws.H,
-                     ws.g, ws.WE, ws.M, ws.lo, ws.hi, ws.nx, ws.ne, ws.con_tab, ws.con_on,
-                     ws.box_lb, ws.box_ub, ws.box_on, ws.nsoft, ws.jb, ws.nj)
+    fill(dt, ws)
+    flags = assemble(ws)
     s = 0.0
     for a in range(ws.H.shape[0]):
         s += ws.g[a]

@@ -71,10 +71,18 @@ def data_views(model, data):
 
 
 @njit
-def fill(dt, J, oMi, vj, aj, q, v, v_pin, T, t0, E, f, dg_f, M, lo, hi, nx, box_lb, box_ub,
-         cart, cart_sup, jrec, lims, pacc, tab, par, tmp, com, vcom, Jcom, body, crec, Ag, hg,
-         dhg, mrec):
-    """Fill the rows of every lowered object that computes (``tab[k, 1]``)."""
+def fill(dt, ws):
+    """
+    Fill the rows of every lowered object that computes (``tab[k, 1]``), on the workspace.
+
+    (The workspace is the argument, not its ~36 arrays: see :func:`.assembly.assemble`.)
+    """
+    J, oMi, vj, aj, q, v, v_pin = ws.J, ws.oMi, ws.vj, ws.aj, ws.q, ws.v, ws.v_pin
+    T, t0, E, f, dg_f, M, lo, hi, nx = ws.T, ws.t0, ws.E, ws.f, ws.dg_f, ws.M, ws.lo, ws.hi, ws.nx
+    box_lb, box_ub, cart, cart_sup, jrec = ws.box_lb, ws.box_ub, ws.cart, ws.cart_sup, ws.jrec
+    lims, pacc, tab, par, tmp = ws.lims, ws.pacc, ws.tab, ws.par, ws.tmp
+    com, vcom, Jcom, body, crec = ws.com, ws.vcom, ws.Jcom, ws.body, ws.crec
+    Ag, hg, dhg, mrec = ws.Ag, ws.hg, ws.dhg, ws.mrec
     for k in range(tab.shape[0]):
         if tab[k, 1] == 0:
             continue
