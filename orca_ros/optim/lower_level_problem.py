@@ -150,8 +150,9 @@ class LowerLevelProblem(WeightedProblem):
         makes it move continuously; it acts in the null space of the locked rows only, so the
         levels above are untouched. 0 solves each cycle on its own. Wrenches are damped
         in units of the robot's weight (as the solver sees them). A level's first cycle (and the
-        first after a failure) is damped towards the solution of the level above, so that a level
-        switched on starts from what the robot already does.
+        first after a failure, or after cycles where all its tasks were off) is damped towards the
+        solution of the level above, so that a level switched on starts from what the robot
+        already does.
         """
         mu = float(mu)
         if not (np.isfinite(mu) and mu >= 0.0):

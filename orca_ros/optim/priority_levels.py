@@ -143,7 +143,11 @@ class PriorityLevels:
             if i > 0:
                 own = self.level_tasks[i]
                 if not any(t.get_effective_weight() > 0.0 for t in own):
-                    continue  # nothing to optimise here: the solution above stands
+                    # nothing to optimise here: the solution above stands. The level has no
+                    # solution of its own this cycle: the next it solves is damped towards the
+                    # solution above, not towards one from before it was switched off
+                    problem._prev_ok[0] = 0
+                    continue
                 band = None
                 if self.references[i] is not None:
                     self.references[i].set_budget(deadline, max_iterations)

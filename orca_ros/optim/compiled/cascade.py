@@ -203,8 +203,10 @@ class CompiledCascade:
                 if lev.releasing else None
             if code is None or code is _STRICT:
                 code = self._by_kernel(lev, deadline, max_iterations, code is None)
-            if code is _NOTHING:
-                continue  # nothing to optimise here: the solution above stands
+            if code is _NOTHING:  # nothing to optimise here: the solution above stands,
+                np.copyto(lev.problem.x, solved.x)  # as the level's, which the next locks to
+                lev.problem._prev_ok[0] = 0  # (no solution of its own to damp towards next)
+                continue
             if code is not _SUCCESS:
                 _LOG.debug(
                     "controller '%s': level %d not solved (%s), keeping level %d's solution",
