@@ -281,7 +281,10 @@ class Controller(TaskRegistryMixin):
             for obj in self._updated:
                 obj.update(current_time, dt)
             self._plan.update()
-        if cc is not None and (cc.steady or fused is not None):  # every level by kernel
+        if fused is _SUCCESS and cc.cascade is None:  # solved and written out: cc.solve's
+            levels.contacts_relaxed = False
+            problem, code, dropped = None, fused, False
+        elif cc is not None and (cc.steady or fused is not None):  # every level by kernel
             problem, code, dropped = cc.solve(levels, deadline, self._max_iterations, self.name,
                                               fused)
         else:

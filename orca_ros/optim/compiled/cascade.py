@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from . import clock, direct_daqp, lower_level as L
+from . import clock, daqp_c, direct_daqp, lower_level as L
 from ..generalized import band_share
 from ..solvers import ReturnCode
 from ...utils.jit import entry
@@ -41,6 +41,8 @@ _SUCCESS = ReturnCode.SUCCESS
 _NOTHING = object()  # a level without weighted tasks this cycle
 _STRICT = object()  # a level whose locks are all strict this cycle
 _NO_DEADLINE = float('inf')  # (a kernel's deadline)
+_UPDATE_ALL = daqp_c.UPDATE_ALL
+_DEFAULT_CAP = direct_daqp.DirectDAQPBackend.default_max_iterations
 
 
 def unlowered_reason(levels) -> str | None:
@@ -109,7 +111,9 @@ class _Level:
         upper = ([t for j in range(index) for t in levels.level_tasks[j]]
                  if reference is not None else [])
         nl, nc, ni = p.lock_rows(), p.n_eq_constraints, p.n_in
-        self.mu, self.mu_for = np.zeros(2), None  # (and the (damping, alpha) it was set for)
+        # the damping's factors (by kernel), and the damping they were written for (nan: none;
+        # read_priorities, which changes alpha, resets it)
+        self.mu, self.mu_for = np.zeros(2), math.nan
         self.Hd, self.g2 = np.zeros((nx, nx)), np.zeros(nx)
         self.keep, self.ref_x, self.band = np.zeros(nl), np.zeros(nx), np.zeros(nl)
         self.Mb = np.zeros((nc + ni + nl, nx))
@@ -170,6 +174,7 @@ class _Level:
             self.alpha = max(self.alpha, alpha)  # the damping's share (PriorityLevels')
             k += m
         self.open = bool(np.any(self.keep > 0.0))
+        self.mu_for = math.nan  # the damping's factors written again
 
 
 class CompiledCascade:
@@ -198,11 +203,31 @@ class CompiledCascade:
             for lev in self.lower:
                 lev.read_priorities(self.priorities)
             self._version = self.priorities.version
+        late = _NO_DEADLINE if deadline is None else deadline  # (the kernels')
+        most = max_iterations or _DEFAULT_CAP
         for lev in self.lower:
-            code = self._releasing(lev, solved.x, deadline, max_iterations) \
-                if lev.releasing else None
-            if code is None or code is _STRICT:
-                code = self._by_kernel(lev, deadline, max_iterations, code is None)
+            p = lev.problem
+            b = p.locked_backend
+            if not (lev.releasing or lev.open) and b._set_up and p.temporal_damping == lev.mu_for:
+                # the steady strict level: prepared and solved warm in one call (_by_kernel's
+                # and solve_prepared's, inline: their frames cost ~1 us per level)
+                b.deadline, b.max_iterations = deadline, most
+                flag, iters, cap, ns = lev.fused(lev.state, b._state, _UPDATE_ALL, late, most,
+                                                 b.min_iterations, b.timing, b.clock)
+                if flag == 1:  # (the time model updated by the kernel)
+                    b.iterations = iters
+                    p.band = None
+                    if not p._prev_ok[0] and p.temporal_damping > 0.0:
+                        p._prev_ok[0] = 1
+                    p.return_code = _SUCCESS
+                    solved = p
+                    continue
+                code = self._settle(lev, b.prepared_failed(flag, iters, cap, ns, L.PREPARED))
+            else:
+                code = self._releasing(lev, solved.x, deadline, max_iterations) \
+                    if lev.releasing else None
+                if code is None or code is _STRICT:
+                    code = self._by_kernel(lev, deadline, max_iterations, code is None)
             if code is _NOTHING:  # nothing to optimise here: the solution above stands,
                 np.copyto(lev.problem.x, solved.x)  # as the level's, which the next locks to
                 lev.problem._prev_ok[0] = 0  # (no solution of its own to damp towards next)
@@ -224,27 +249,40 @@ class CompiledCascade:
         ``banded`` False: strict whatever the priorities (the reference path found no band).
         """
         p = lev.problem
-        mu, alpha = p.temporal_damping, lev.alpha
-        if (mu, alpha) != lev.mu_for:  # (numpy item writes cost ~0.1 us each: on a change only)
+        mu = p.temporal_damping
+        if mu != lev.mu_for:  # (numpy item writes cost ~0.1 us each: on a change only)
             # times the own and the upper tasks' weights, by kernel (PriorityLevels.damping_scale)
+            alpha = lev.alpha
             lev.mu[0] = mu * alpha
             lev.mu[1] = mu * alpha * math.sqrt(1.0 - alpha)
-            lev.mu_for = (mu, alpha)
+            lev.mu_for = mu
         p.band = None
         if banded and lev.open:
             code = CompiledCascade._generalized(lev, deadline, max_iterations)
         else:
             b = _budget(p.locked_backend, deadline, max_iterations)
-            code = b.solve_prepared(lev.fused, lev.state, L.PREPARED)
-            if code.__class__ is not int and code is not _SUCCESS:  # as _solve_locked_stacked
-                code, z = p.solve_stacked_in_null_space(lev.Hd, lev.g2)
-                if code is _SUCCESS:
-                    np.add(p.x_ref, z, out=p.x)
+            return CompiledCascade._settle(lev, b.solve_prepared(lev.fused, lev.state,
+                                                                 L.PREPARED))
+        return CompiledCascade._settle(lev, code, fallback=False)
+
+    @staticmethod
+    def _settle(lev, code, fallback: bool = True):
+        """
+        Finish a level's solve that returned ``code`` (solve_prepared's).
+
+        ``fallback``: a strict solve that failed is retried in the null space of its locks
+        (as _solve_locked_stacked).
+        """
+        p = lev.problem
+        if fallback and code.__class__ is not int and code is not _SUCCESS:
+            code, z = p.solve_stacked_in_null_space(lev.Hd, lev.g2)
+            if code is _SUCCESS:
+                np.add(p.x_ref, z, out=p.x)
         if code.__class__ is int:  # not prepared
             if code == L.PREPARED - L.NOTHING_TO_DO:
                 return _NOTHING
             code = ReturnCode.NON_FINITE_PROBLEM
-        elif mu > 0.0:  # after a failure, the next solve is damped towards x_ref
+        elif p.temporal_damping > 0.0:  # after a failure, the next solve is damped towards x_ref
             p._prev_ok[0] = code is _SUCCESS
         p.return_code = code
         return code

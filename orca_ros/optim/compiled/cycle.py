@@ -28,6 +28,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
+import pinocchio as pin
 
 from . import cascade, clock, cycle_kernel, direct_daqp, fill, terms
 from .collision import attach_kernels
@@ -45,6 +46,7 @@ from ...utils.logger import get_logger
 
 _LOG = get_logger('compiled')
 _SUCCESS = ReturnCode.SUCCESS
+_crba, _nle, _WORLD = pin.crba, pin.nonLinearEffects, pin.Convention.WORLD
 
 
 class CompiledCycle(CycleContacts):
@@ -221,13 +223,23 @@ class CompiledCycle(CycleContacts):
         watch = self.tables.watch
         full = watch.touched
         watch.touched = False
-        if self.owns_layout:
-            self._pinocchio()  # (ProblemLayout.update's, on the reference path)
-            self._contacts(t, dt, full)
-        elif self.layout.n_wrenches:
+        if self.owns_layout or not self.layout.n_wrenches:
+            # this cycle's Pinocchio pass (terms.py): two passes, or computeAllTerms (inline: a
+            # method's frame costs ~0.3 us per cycle); (T, t0) are views on Pinocchio's M and
+            # nle (_bind_data) without contacts
+            r = self.robot
+            if not self.two_passes:
+                r._update_terms()
+            elif r._stamp != self._pass_stamp and r._terms_stamp != r._stamp:
+                model, d, q = r.model, r.data, r._q_pin
+                _crba(model, d, q, _WORLD)
+                _nle(model, d, q, r._v_pin)  # (terms.two_passes)
+                self._derive[0] = 1  # the first kernel derives the drifts
+                self._pass_stamp = r._stamp
+            if self.owns_layout:  # (ProblemLayout.update's, on the reference path)
+                self._contacts(t, dt, full)
+        else:
             self.layout.update()
-        else:  # (T, t0) are views on Pinocchio's M and nle (_bind_data)
-            self._pinocchio()
         for obj in self.python:
             obj.update(t, dt)
         if self._centroidal is not None:  # the momentum tasks' terms (cached per state)
@@ -240,7 +252,7 @@ class CompiledCycle(CycleContacts):
             if self.cascade is not None:
                 self.cascade.flags()
         fused = self.fused
-        if fused is not None and fused.ready() and not (full and self.plan.contacts):
+        if fused is not None and fused.backend._set_up and not (full and self.plan.contacts):
             return fused(dt, deadline, max_iterations)
         flags = self._run(self.ws, dt)
         self.plan.box_conflicts += flags & 1
@@ -249,16 +261,6 @@ class CompiledCycle(CycleContacts):
             # the wrench bounds (the kernel writes the joints' only): they change with the
             # contacts' state (lowered contacts: after a change; else their updates may any time)
             self.assembly.contacts()
-
-    def _pinocchio(self) -> None:
-        """Run this cycle's Pinocchio pass (terms.py): two passes, or computeAllTerms."""
-        r = self.robot
-        if not self.two_passes:
-            r._update_terms()
-        elif r._stamp != self._pass_stamp and r._terms_stamp != r._stamp:
-            terms.two_passes(r.model, r.data, r._q_pin, r._v_pin)
-            self._derive[0] = 1  # the first kernel derives the drifts
-            self._pass_stamp = r._stamp
 
     def solve(self, levels, deadline, max_iterations, name: str, first=None):
         """

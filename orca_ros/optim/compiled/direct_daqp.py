@@ -231,6 +231,14 @@ class DirectDAQPBackend(QPBackend):
         if flag == 1:  # (the time model updated by the kernel)
             self.iterations = iters
             return ReturnCode.SUCCESS
+        return self.prepared_failed(flag, iters, cap, ns, prepared)
+
+    def prepared_failed(self, flag: int, iters: int, cap: int, ns: int, prepared: int):
+        """
+        Finish a warm call of ``fused`` (solve_prepared) that did not succeed.
+
+        Its outcome: (flag, iterations, cap, nanoseconds); returns as solve_prepared.
+        """
         if flag < prepared:
             return flag
         code = self._ran(flag, iters, ns * 1e-9)

@@ -122,7 +122,13 @@ class StateKernel:
 
     def configuration(self, q, v) -> bool:
         """Take Pinocchio's (q, v): True when taken; False: the Python path takes or refuses it."""
-        if not (self.simple and _fits(q, self.nq) and _fits(v, self.nv)) or self._configuration(
+        # (_fits for both, inline: this runs every cycle)
+        if (type(q) is not np.ndarray or type(v) is not np.ndarray or not self.simple
+                or q.shape != (self.nq,) or v.shape != (self.nv,)):
+            return False
+        dq, dv, fq, fv = q.dtype, v.dtype, q.flags, v.flags
+        if not ((dq is _F64 or dq == _F64) and (dv is _F64 or dv == _F64) and fq.c_contiguous
+                and fq.aligned and fv.c_contiguous and fv.aligned) or self._configuration(
             q, v, self.q_pin, self.v_pin, self.q, self.v, self.nb, self.tol
         ) != _OK:
             return False
