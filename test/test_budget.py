@@ -42,7 +42,7 @@ pytestmark = pytest.mark.real_time_budget
 
 def _backend(fixed, per, max_iterations=1000, min_iterations=10):
     b = base.QPBackend(2, 0, 0)
-    b._fixed, b._per = fixed, per
+    b.timing[:] = fixed, per
     b.max_iterations, b.min_iterations = max_iterations, min_iterations
     return b
 
@@ -86,12 +86,12 @@ def test_a_preempted_solve_barely_moves_the_timing_model():
     b = _backend(fixed=0.0, per=0.0)
     b.record(1e-4, 1)  # the first solve sets the fixed cost
     b.record(1e-4 + 9 * 1e-5, 10)  # ... a longer one the cost per iteration
-    assert (b._fixed, b._per) == pytest.approx((1e-4, 1e-5))
+    assert tuple(b.timing) == pytest.approx((1e-4, 1e-5))
     b.record(1.0, 1)  # preempted for a second: the estimate rises at most to 1.6x
-    assert b._fixed == pytest.approx(1.6e-4)
+    assert b.timing[0] == pytest.approx(1.6e-4)
     for _ in range(100):  # and falls back slowly on ordinary solves
         b.record(1e-4, 2)
-    assert b._fixed == pytest.approx(1e-4, rel=0.01)
+    assert b.timing[0] == pytest.approx(1e-4, rel=0.01)
 
 
 def test_the_controller_gives_each_cycle_one_period(lwr_urdf, monkeypatch):

@@ -33,6 +33,7 @@ from .diagnosis import diagnose
 from .generalized import GeneralizedPriorities
 from .lower_level_problem import DEFAULT_LOWER_LEVEL_DAMPING
 from .priority_levels import PriorityLevels, tasks_by_level
+from .priority_settings import PrioritySettingsMixin
 from .problem_layout import ProblemLayout
 from .resolution_strategy import ResolutionStrategy
 from .solvers import QPSolver, resolve_solver, ReturnCode
@@ -49,7 +50,7 @@ _LOG = get_logger('controller')
 _SUCCESS = ReturnCode.SUCCESS
 
 
-class Controller(TaskRegistryMixin):
+class Controller(TaskRegistryMixin, PrioritySettingsMixin):
     #: time budget of a new controller's cycles [s]; None: one control period (the dt of each
     #: update). Offline users (tests judging physics, batch simulations) may raise it for all.
     default_time_budget: float | None = None
@@ -115,47 +116,6 @@ class Controller(TaskRegistryMixin):
         self._constraints.append(self.dynamics_constraint)
         for obj in self._internal:
             obj.activate()
-
-    # -------------------------------------------------------------- priorities
-    def set_priority(self, high: str, low: str, value: float) -> None:
-        """
-        GENERALIZED.
-
-        Priority in [0, 1] of task ``high`` over task ``low`` (0 weighted, 1 strict); may change
-        every cycle.
-
-        ``high`` must sit on a higher level (smaller number) than ``low``.
-        """
-        if self.resolution_strategy is not ResolutionStrategy.GENERALIZED:
-            raise ValueError(
-                f"controller '{self.name}': priority values need the GENERALIZED strategy "
-                f'(this one is {self.resolution_strategy.value})'
-            )
-        th, tl = self.get_task(high), self.get_task(low)
-        if not th.level < tl.level:
-            raise ValueError(
-                f"set_priority('{high}', '{low}'): '{high}' (level {th.level}) must be on a "
-                f"higher level than '{low}' (level {tl.level})"
-            )
-        self.priorities.set(high, low, value)
-
-    def set_priority_matrix(self, names, matrix) -> None:
-        """
-        GENERALIZED.
-
-        matrix[i][j] = priority of task names[i] over names[j]; only entries with level(i) <
-        level(j) are read, the rest must be left at 0 or 1 (ignored).
-        """
-        m = np.asarray(matrix, dtype=float)
-        if m.shape != (len(names), len(names)):
-            raise ValueError(f'priority matrix must be {len(names)}x{len(names)}, got {m.shape}')
-        for i, hi in enumerate(names):
-            for j, lo in enumerate(names):
-                if self.get_task(hi).level < self.get_task(lo).level:
-                    self.set_priority(hi, lo, m[i, j])
-
-    def get_priority(self, high: str, low: str) -> float:
-        return self.priorities.get(high, low)
 
     def remove_gravity_torques_from_solution(self, do_remove: bool) -> None:
         """Subtract g(q) from the torque command (for robots whose drives compensate gravity)."""
@@ -347,16 +307,6 @@ class Controller(TaskRegistryMixin):
     def contacts_relaxed(self) -> bool:
         """Tell whether the last cycle let the contacts slip (see optim/elastic_contacts.py)."""
         return self._levels is not None and self._levels.contacts_relaxed
-
-    def set_lower_level_damping(self, mu: float) -> None:
-        """
-        Damp every level below the first in time: + mu W ||x - x_prev||^2 (0: off; default 10).
-
-        W: the level's own weights; see :meth:`LowerLevelProblem.set_temporal_damping`.
-        """
-        if self._levels is not None:
-            self._levels.set_temporal_damping(mu)
-        self._lower_damping = float(mu)
 
     def diagnose(self):
         """Name the constraints that conflict in the last cycle (:mod:`.diagnosis`; ms)."""

@@ -80,22 +80,6 @@ class QPBackend:
         # seconds per further iteration
         self.timing = np.zeros(2)
 
-    @property
-    def _fixed(self) -> float:
-        return float(self.timing[0])
-
-    @_fixed.setter
-    def _fixed(self, value: float) -> None:
-        self.timing[0] = value
-
-    @property
-    def _per(self) -> float:
-        return float(self.timing[1])
-
-    @_per.setter
-    def _per(self, value: float) -> None:
-        self.timing[1] = value
-
     def iteration_cap(self, now: float | None = None) -> int:
         """
         Return the iterations allowed to the next solve (see the module's docstring).
