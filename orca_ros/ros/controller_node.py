@@ -37,11 +37,10 @@ import time
 from nav_msgs.msg import Odometry
 import numpy as np
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Float64MultiArray, MultiArrayDimension, String
+from std_msgs.msg import String
 
+from .command_output import CommandOutput
 from .common import (
-    ANSWERS,
-    COMMAND_WRITER_QOS,
     DESCRIPTION_QOS,
     nested_parameters,
     param,
@@ -65,6 +64,7 @@ from ..utils.ring_buffer import RingBuffer
 
 class OrcaControllerNode(
     GuardedNode,
+    CommandOutput,
     StateReception,
     ControllerInterfaces,
     ControllerDiagnostics,
@@ -144,10 +144,7 @@ class OrcaControllerNode(
         self._last_cmd = np.zeros(self.n)  # model order
         self._enabled = True
         self._t_prev = None
-        self._safe_reason = self._safe_cause = None
-        self._safe_said = False  # the current safe spell's line is in the log
         self.qp_failures = 0
-        self.commands_sent = 0  # every command published (solved, safe or hold)
         self.contacts_relaxed_cycles = 0  # cycles solved with elastic contacts (see optim/)
         self._diagnosed = False
         self.qp_conflict = ''  # what diagnose() said of the last failing spell
@@ -166,19 +163,7 @@ class OrcaControllerNode(
         self.manage_gc = bool(param(self, 'manage_gc', True))
         self._gc_frozen = False
         self._last_loop_wall = None
-        self._cmd_msg = Float64MultiArray()
-        self._cmd_msg.data = [0.0] * self.n
-        # lockstep: the command names the state it answers (common.ANSWERS)
-        self._state_ns = 0
-        self._cmd_dim = None
-        if self.trigger == 'joint_state':
-            self._cmd_dim = MultiArrayDimension(label=ANSWERS, size=self.n, stride=self.n)
-            self._cmd_msg.layout.dim = [self._cmd_dim]
-        self.pub_cmd = self.create_publisher(
-            Float64MultiArray,
-            str(param(self, 'command_topic', '/effort_controller/commands')),
-            COMMAND_WRITER_QOS,
-        )
+        self._init_command_output()
         self.create_subscription(JointState, 'joint_states', self._on_joint_state, STATE_QOS)
         # floating base: the base pose and twist come from odom (nav_msgs/Odometry, twist in
         # child_frame_id)
@@ -356,48 +341,6 @@ class OrcaControllerNode(
             self._gc_frozen = True
             return
         gc.collect(1)
-
-    def _publish_safe(
-        self, t: float, cause: str, reason: str, fresh: bool = True, level: str = 'warning'
-    ) -> None:
-        if reason != self._safe_reason:
-            self._safe_reason, self._safe_cause, self._safe_said = reason, cause, False
-        if not self._safe_said and self.say.due(cause):  # a line the throttle would hold back
-            # (its cause said < 1 s ago) goes out once it may: no safe spell goes unnamed
-            text = f'safe command: {reason}' if level != 'info' else f'holding: {reason}'
-            self._safe_said = self.say(level, cause, text)
-        cmd = self.safe.compute(
-            t if fresh else time.monotonic(), self._last_cmd, self._q, self._v if fresh else None
-        )
-        self._publish(cmd)
-
-    def _publish(self, cmd_model: np.ndarray) -> None:
-        self._last_cmd[:] = cmd_model
-        wire = np.empty(self.n)
-        wire[self._wire_of_model] = cmd_model
-        self._cmd_msg.data = wire.tolist()
-        if self._cmd_dim is not None:
-            self._cmd_dim.label = f'{ANSWERS}{self._state_ns}'
-        self.pub_cmd.publish(self._cmd_msg)
-        self.commands_sent += 1
-
-    def shutdown_command(self) -> None:
-        """
-        On SIGINT / SIGTERM / shutdown, while the context is valid.
-
-        Stop the loop and send the hold (gravity at the last state, zero when the drives compensate
-        it), waiting until it is delivered.
-        """
-        self._stopped = True
-        if not self._have_state:
-            return
-        self._publish(self.safe.hold(self._q, None))
-        from rclpy.duration import Duration  # noqa: PLC0415
-
-        delivered = self.pub_cmd.wait_for_all_acked(Duration(seconds=0.5))
-        self.get_logger().info(
-            'shutdown: hold command sent' + ('' if delivered else ' (delivery not confirmed)')
-        )
 
 
 def main(args=None) -> int:

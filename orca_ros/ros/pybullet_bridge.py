@@ -64,9 +64,9 @@ from .common import (
     STATE_QOS,
 )
 from .guarded_node import GuardedNode
+from .odometry import odometry
 from .sim_obstacles import SimObstacles
 from ..configuration import resolve_urdf_path
-from ..math.rotations import quaternion_xyzw
 from ..robot import RobotModel
 from ..safety import CommandWatchdog
 from ..sim import SimServer
@@ -259,10 +259,9 @@ class PyBulletBridge(GuardedNode, SimObstacles):
                 self.server.step()
         elif self.mode == 'lockstep':
             # paused: the idle announcements keep the controller informed (answering each command
-            # with
+            # with the same state would make the controller, which repeats its command for a
+            # repeated state, ping-pong)
             return
-            # the same state would make the controller, which repeats its command for a repeated
-            # state, ping-pong)
         self._publish_state()
 
     def _watched_command(self) -> np.ndarray:
@@ -337,39 +336,13 @@ class PyBulletBridge(GuardedNode, SimObstacles):
         js.effort = self.model.get_joint_measured_torques(o).tolist()
         self.pub_js.publish(js)
         if self.pub_odom is not None:
-            self._publish_odom(js.header.stamp)
+            self.pub_odom.publish(odometry(self.model.get_world_to_base_transform(),
+                                           self.model.get_base_velocity(), js.header.stamp,
+                                           self.publish_odom_twist))
         if self.pub_clock is not None:
             c = Clock()
             sec_to_stamp(self.server.get_time(), c.clock)
             self.pub_clock.publish(c)
-
-    def _publish_odom(self, stamp) -> None:
-        T = self.model.get_world_to_base_transform()
-        twist = self.model.get_base_velocity()
-        R = T[:3, :3]
-        m = Odometry()
-        m.header.stamp = stamp
-        m.header.frame_id = 'world'
-        m.child_frame_id = 'base_link'
-        p = m.pose.pose
-        p.position.x, p.position.y, p.position.z = (float(v) for v in T[:3, 3])
-        x, y, z, w = (
-            float(c) for c in quaternion_xyzw(R)
-        )  # (pin.Quaternion(R) leaks: see quaternion_xyzw)
-        p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w = x, y, z, w
-        if not self.publish_odom_twist:
-            m.twist.covariance[0] = -1.0
-            self.pub_odom.publish(m)
-            return
-        # nav_msgs/Odometry: the twist is expressed in child_frame_id
-        lin, ang = R.T @ twist[:3], R.T @ twist[3:]
-        m.twist.twist.linear.x, m.twist.twist.linear.y, m.twist.twist.linear.z = (
-            float(v) for v in lin
-        )
-        m.twist.twist.angular.x, m.twist.twist.angular.y, m.twist.twist.angular.z = (
-            float(v) for v in ang
-        )
-        self.pub_odom.publish(m)
 
     # -------------------------------------------------------------- services
     def _on_reset(self, req, res):
