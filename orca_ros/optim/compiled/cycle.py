@@ -266,8 +266,9 @@ class CompiledCycle(CycleContacts):
         """
         Solve every level by kernel (when ``steady``), as ``levels.solve`` returns.
 
-        ``first``: the first level's code where update() solved it (the one-call cycle); then
-        the problem returned is None when the solution is written out already.
+        ``first``: the first level's code where update() solved it (the one-call cycle): a
+        failure, or a success with levels below (one level's success is the controller's own
+        to take: its solution is written out already).
         """
         if first is None:
             if self.cascade is not None:
@@ -276,9 +277,7 @@ class CompiledCycle(CycleContacts):
         levels.contacts_relaxed = False
         if first is not _SUCCESS:
             return levels.first_failed(self.problem, first, deadline, max_iterations)
-        if self.cascade is not None:
-            return self.cascade.solve(deadline, max_iterations, name, self.problem)
-        return None, first, False
+        return self.cascade.solve(deadline, max_iterations, name, self.problem)
 
     def solve_first(self, levels, deadline, max_iterations):
         """

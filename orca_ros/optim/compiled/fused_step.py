@@ -61,10 +61,6 @@ class FusedStep:
         self._step = entry(cycle_kernel.step, ws, b._state, 1e-3, 1.0, 1, 1, b.timing,
                            self.clock, 1, *self.outs)
 
-    def ready(self) -> bool:
-        """Whether DAQP's workspace holds the last solve's active set (a warm start)."""
-        return self.backend._set_up
-
     def __call__(self, dt: float, deadline, max_iterations) -> ReturnCode:
         """
         Run the cycle from the rows on to the first level's solution; SUCCESS: solved.
