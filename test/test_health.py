@@ -56,6 +56,10 @@ def test_each_fault_has_its_level_and_reason():
         qp_failures=3
     )  # failed and recovered since the last report: still an error to report
     assert lvl == ERROR and '3 QP failure(s)' in msg
+    # and what the last failure was
+    lvl, msg = judge(qp_failures=3, last_failure='no QP solution (primal_infeasible)')
+    assert (lvl, msg) == (
+        ERROR, '3 QP failure(s) since the last report (last: no QP solution (primal_infeasible))')
     lvl, msg = judge(state_age=0.3)
     assert lvl == ERROR and 'stale' in msg
     lvl, msg = judge(dropped_levels=2)

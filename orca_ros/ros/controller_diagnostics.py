@@ -103,6 +103,7 @@ class ControllerDiagnostics:
             safe_reason=self._safe_reason,
             safe_cause=self._safe_cause,
             qp_failures=fails - f0,
+            last_failure=self.last_qp_failure,
             dropped_levels=dropped - d0,
             periods=self.loop_periods.latest(cycles - c0),
             nominal_period=self.period,

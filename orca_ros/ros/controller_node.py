@@ -145,6 +145,7 @@ class OrcaControllerNode(
         self._enabled = True
         self._t_prev = None
         self.qp_failures = 0
+        self.last_qp_failure = None  # what the last failed cycle said (for /diagnostics)
         self.contacts_relaxed_cycles = 0  # cycles solved with elastic contacts (see optim/)
         self._diagnosed = False
         self.qp_conflict = ''  # what diagnose() said of the last failing spell
@@ -295,7 +296,8 @@ class OrcaControllerNode(
         if not ok:
             code = self.controller.get_return_code()
             self.qp_failures += 1
-            self._publish_safe(t, 'safe:qp', f'no QP solution ({code.value})')
+            self.last_qp_failure = f'no QP solution ({code.value})'
+            self._publish_safe(t, 'safe:qp', self.last_qp_failure)
             if not self._diagnosed:  # once per failing spell, after the safe command went out
                 self._diagnosed = True
                 self._diagnose_failure()

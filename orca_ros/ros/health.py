@@ -80,6 +80,7 @@ def assess(
     overrun_factor: float,
     persistent_errors,
     interval: float = 0.0,
+    last_failure: str | None = None,
 ) -> tuple[int, str]:
     """(level, message) for one report; the counters are those since the previous report."""
     errors, warns, infos = [], [], []
@@ -94,7 +95,9 @@ def assess(
             else f'safe command: {safe_reason}'
         )
     if qp_failures and safe_cause != 'safe:qp':
-        errors.append(f'{qp_failures} QP failure(s) since the last report')
+        # recovered since: the count, and what the last failure was
+        last = f' (last: {last_failure})' if last_failure else ''
+        errors.append(f'{qp_failures} QP failure(s) since the last report{last}')
     if dropped_levels:
         warns.append(f'{dropped_levels} cycle(s) dropped a priority level since the last report')
     expected = interval / nominal_period if nominal_period > 0 else 0.0
