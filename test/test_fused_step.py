@@ -14,7 +14,8 @@
 """
 The one-call cycle (optim/compiled/fused_step.py) against the compiled cycle's three calls.
 
-Two controllers on the same arm see the same states and targets; one has its one-call path
+Controllers on the same arm see the same states and targets: one runs the one call inline
+(the controller's lean cycle), one through ``CompiledCycle.update``, one has its one-call path
 taken away. Along a run whose problem turns infeasible and back, and whose locked joint is
 welded again (a new Pinocchio model and Data): the same return codes and the same torques,
 the one-call path taken on every cycle that starts warm. With levels below (strict and
@@ -39,7 +40,7 @@ from orca_ros.optim.compiled import clock  # noqa: E402,I100
 Q0 = np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6])
 
 
-def _controller(one_call: bool):
+def _controller(one_call: bool, lean: bool = True):
     robot = orca.RobotModel()
     robot.load_model_from_file(default_urdf_path())
     robot.lock_joints(['joint_6'], [0.1])
@@ -65,22 +66,29 @@ def _controller(one_call: bool):
             bind(ws)
             step = fused._step
             fused._step = lambda *a: calls.append(1) or step(*a)
+            if not lean:  # the controller's inline (lean) cycle taken away
+                fused.lean = None
 
         fused.bind = counting
         counting(cc.ws)
     else:
         cc.fused = None
+    # the cycles that ran CompiledCycle.update (the others: the controller's lean cycle)
+    cc.updates, update = [], cc.update
+    cc.update = lambda *a: cc.updates.append(1) or update(*a)
     return robot, c, ee, calls
 
 
 def test_the_one_call_cycle_equals_the_three_calls_through_failures_and_a_weld():
-    runs = [_controller(True), _controller(False)]
+    # the one call inline in the controller (lean) and through CompiledCycle.update, and
+    # the three calls
+    runs = [_controller(True), _controller(True, lean=False), _controller(False)]
     pose = runs[0][0].get_frame_pose('link_7').copy()
     limits = {}
     for _, c, _, _ in runs:
         for name in ('JointTorqueLimitConstraint', 'JointAccelerationLimitConstraint'):
             limits[name] = c.get_constraint(name).get_limits()
-    codes, warm = [], []
+    codes, warm, not_lean = [], [], []
     for k in range(1, 400):
         t = k * 1e-3
         if k == 150:  # no torque both holds the arm and keeps within these
@@ -100,20 +108,30 @@ def test_the_one_call_cycle_equals_the_three_calls_through_failures_and_a_weld()
         q = Q0 + 0.2 * np.sin(np.arange(1, 7) * 2.0 * t)
         v = 0.4 * np.cos(np.arange(1, 7) * 2.0 * t)
         warm.append(runs[0][1].compiled_cycle.fused.backend._set_up)  # (DAQP's warm start)
+        updates = len(runs[0][1].compiled_cycle.updates)
         out = []
         for robot, c, ee, _ in runs:
             robot.set_robot_state(q, v)
             ee.servo_controller().set_desired(target)
             out.append((c.update(t, 1e-3), c.get_return_code(), c.get_joint_torque_command()))
-        (ok, code, tau), (ok3, code3, tau3) = out
-        assert (ok, code) == (ok3, code3), k
-        np.testing.assert_allclose(tau, tau3, rtol=1e-12, atol=1e-12, err_msg=str(k))
+        ok, code, tau = out[0]
+        for ok3, code3, tau3 in out[1:]:
+            assert (ok, code) == (ok3, code3), k
+            np.testing.assert_allclose(tau, tau3, rtol=1e-12, atol=1e-12, err_msg=str(k))
         codes.append(code)
+        if warm[-1] and len(runs[0][1].compiled_cycle.updates) > updates:
+            not_lean.append(k)
     failed = [k for k, code in enumerate(codes, 1) if code is not ReturnCode.SUCCESS]
     assert failed == list(range(150, 180)), failed
     # every cycle that starts warm (the one before it solved) took the one call
     assert sum(warm) == len(runs[0][3]) >= len(codes) - 40
     assert warm[150 - 1] and not warm[151 - 1] and not warm[180 - 1] and warm[181 - 1]
+    assert len(runs[1][3]) == len(runs[0][3])  # the one call, lean or not
+    # lean: every warm cycle but those after a change, where CompiledCycle.update re-reads the
+    # objects: the first, the limits set (150; and restored at 180, a cold cycle, whose
+    # re-read limits make the next one re-read too), the weld (a new Data bound)
+    assert not_lean == [1, 150, 181, 250], not_lean
+    assert len(runs[1][1].compiled_cycle.updates) == len(codes)
     # the time model of the one-call path: the solve's time by the kernel's clock
     b = runs[0][1].compiled_cycle.problem.backend
     assert 0.0 < b.timing[0] < 1e-3

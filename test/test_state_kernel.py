@@ -145,6 +145,51 @@ def test_inputs_the_kernel_does_not_take_still_enter(lwr_urdf, example_robot_urd
     _same(a, b)
 
 
+def test_set_configuration_reads_any_float64_vector_by_its_strides(example_robot_urdf, rng):
+    # set_configuration's kernel runs on float64 vectors of the right sizes whatever their
+    # strides (a column, a reversed or misaligned view, a read-only buffer); every other input
+    # (another dtype, 2-D, a list, big-endian) takes the Python path; each read as numpy reads it
+    a, b = _pair(example_robot_urdf('panda_description/urdf/panda.urdf'))
+    taken = []
+    take = a._state_kernel.take
+    a._state_kernel.take = lambda *args: taken.append(1) or take(*args)
+    nq, nv = a.model.nq, a.model.nv
+    for k, make in enumerate((
+        lambda x: x.copy(),
+        lambda x: np.stack([x, np.zeros_like(x)], axis=1)[:, 0],  # a strided column
+        lambda x: x[::-1].copy()[::-1],  # negative strides
+        lambda x: _misaligned(x),
+        lambda x: _frozen(x),
+        lambda x: x.astype('>f8'),  # big-endian: not float64 itself
+        lambda x: x.astype(np.float32),
+        lambda x: x.reshape(-1, 1),
+        lambda x: list(x),
+    )):
+        q, v = _random_configuration(a.model, rng)
+        qi, vi = make(q), make(v)
+        for r in (a, b):
+            r.set_configuration(qi, vi)
+        _same(a, b)
+        tol = 1e-7 if k == 6 else 0.0  # float32
+        np.testing.assert_allclose(a._q_pin, q, rtol=tol, atol=tol)
+        np.testing.assert_allclose(a._v_pin, v, rtol=tol, atol=tol)
+        assert a._q_pin.shape == (nq,) and a._v_pin.shape == (nv,)
+    assert len(taken) == 5  # the float64 vectors, and only they
+
+
+def _misaligned(x):
+    raw = np.zeros(x.size * 8 + 1, dtype=np.uint8)[1:].view(np.float64)
+    raw[:] = x
+    assert not raw.flags.aligned
+    return raw
+
+
+def _frozen(x):
+    y = x.copy()
+    y.flags.writeable = False
+    return y
+
+
 def test_a_compiled_controller_gives_its_robot_the_kernel(lwr_urdf):
     robot = orca.RobotModel()
     robot.load_model_from_file(lwr_urdf)

@@ -234,7 +234,41 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
             deadline = None
         cc, levels = self.compiled_cycle, self._levels
         fused = None  # the first level's code where the compiled cycle took one call
-        if cc is not None:  # the layout's update included
+        step = None if cc is None or self._dirty else cc.fused
+        lean = None if step is None else step.lean
+        if lean is not None:
+            watch, r, data, b, problem, ws, st, timing, clock, outs, derive, model, crba, nle, \
+                world = lean
+        if lean is not None and not watch.touched and r.data is data and b._set_up:
+            # the lean cycle (FusedStep.bind says where): CompiledCycle.update and FusedStep
+            # inline, as they would run it, nothing having changed since the last cycle (no
+            # object touched, the same Pinocchio Data, DAQP warm)
+            if r._stamp != cc._pass_stamp and r._terms_stamp != r._stamp:
+                q = r._q_pin
+                crba(model, data, q, world)  # (terms.two_passes)
+                nle(model, data, q, r._v_pin)
+                derive[0] = 1  # the kernel derives the drifts
+                cc._pass_stamp = r._stamp
+            b.deadline = deadline
+            b.max_iterations = most = self._max_iterations or b.default_max_iterations
+            flags, flag, iters, cap, ns = step._step(ws, st, dt, deadline, most, b.min_iterations,
+                                                     timing, clock, 1, *outs)
+            if flag != 1:
+                fused = step.took(flags, flag, iters, cap, ns)
+            else:  # solved and written out: FusedStep.took's success, and this method's
+                b.iterations = iters
+                problem.return_code = self._return_code = _SUCCESS
+                problem.built_finite = True
+                if flags:
+                    cc.plan.box_conflicts += flags & 1
+                levels.contacts_relaxed = False
+                if self._remove_gravity or self._remove_coriolis:
+                    self._make_command()
+                self._solution_found = True
+                if self._update_cb is not None:
+                    self._update_cb(current_time, dt)
+                return True
+        elif cc is not None:  # the layout's update included
             fused = cc.update(current_time, dt, deadline, self._max_iterations)
         else:
             self.layout.update()

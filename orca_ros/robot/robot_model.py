@@ -43,6 +43,7 @@ from .joint_locking import JointLockingMixin
 from ..utils.logger import get_logger
 
 _LOG = get_logger('robot')
+_ARRAY, _F64 = np.ndarray, np.dtype(np.float64)
 WORLD_FRAME = 'world'
 
 
@@ -233,8 +234,15 @@ class RobotModel(FrameApiMixin, JointLockingMixin):
         ``q`` of size nq (floating base: position, unit quaternion x y z w, then the joints), ``v``
         of size nv (floating base: the base twist in the base frame, then the joints).
         """
-        fast = self._state_kernel  # by kernel, as set_robot_state
-        if fast is not None and fast.configuration(q, v):
+        fast = self._state_kernel  # by kernel, inline: the common input of every cycle (see
+        # StateKernel: exactly ndarray, float64 itself, the sizes; the kernel checks the values)
+        if (fast is not None and type(q) is _ARRAY and type(v) is _ARRAY and q.dtype is _F64
+                and v.dtype is _F64 and fast.shapes is not None and q.shape == fast.shapes[0]
+                and v.shape == fast.shapes[1] and not fast.take(q, v, *fast.args)):
+            if fast.nb:
+                self._base_from_q_pin = True
+            self._stamp += 1
+            self._initialized = True
             return
         self._require_model()
         state_input.set_configuration(self, q, v)

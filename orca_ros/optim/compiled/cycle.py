@@ -28,7 +28,6 @@ from __future__ import annotations
 import time
 
 import numpy as np
-import pinocchio as pin
 
 from . import cascade, clock, cycle_kernel, direct_daqp, fill, terms
 from .collision import attach_kernels
@@ -46,7 +45,7 @@ from ...utils.logger import get_logger
 
 _LOG = get_logger('compiled')
 _SUCCESS = ReturnCode.SUCCESS
-_crba, _nle, _WORLD = pin.crba, pin.nonLinearEffects, pin.Convention.WORLD
+_crba, _nle, _WORLD = terms.cycle_passes()
 
 
 class CompiledCycle(CycleContacts):

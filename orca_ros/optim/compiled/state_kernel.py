@@ -15,10 +15,11 @@
 The robot's state input by kernel: what :mod:`orca_ros.robot.state_input` does per cycle.
 
 A compiled cycle gives its robot this kernel (``RobotModel._state_kernel``): the common state
-inputs, ``set_configuration(q, v)`` and a fixed base's ``set_robot_state(q, v)``, of contiguous
-float64 arrays of the right sizes on a robot without continuous joints, are checked (finite; the
-base quaternion's norm) and written in one call (~1 us instead of ~3-4 us of numpy calls). A
-state it refuses, and every other input, takes the Python path, which names the fault.
+inputs on a robot without continuous joints, ``set_configuration(q, v)`` (float64 vectors of
+the right sizes, any strides) and a fixed base's ``set_robot_state(q, v)`` (contiguous float64
+arrays of the right sizes), are checked (finite; the base quaternion's norm) and written in one
+call (~1 us instead of ~3-4 us of numpy calls). A state it refuses, and every other input,
+takes the Python path, which names the fault.
 """
 
 from __future__ import annotations
@@ -98,12 +99,24 @@ def _fits(a, n) -> bool:
     return (d is _F64 or d == _F64) and f.c_contiguous and f.aligned
 
 
+def _strided(n: int) -> np.ndarray:
+    """Return a strided float64 vector of n elements: numba's 'A' layout (read by its strides)."""
+    return np.zeros((n, 2))[:, 0]
+
+
 class StateKernel:
     """
     The robot's fast state input (see the module); compiled or loaded when made.
 
     Made for one Pinocchio model of the robot (its arrays and sizes): a new model comes with
     a new one (``RobotModel._state_kernel`` is reset with the model).
+
+    ``RobotModel.set_configuration`` calls :attr:`take` inline (it runs every cycle): on
+    ``(q, v)`` whose type is exactly ``np.ndarray``, whose dtype is float64 itself and whose
+    shapes are :attr:`shapes`, with :attr:`args` after them. The kernel reads them by their
+    strides, so any such vector may come (a column, a slice); it refuses (1) what is not finite,
+    or a base quaternion not of unit norm. ``shapes`` is None where the kernel does not apply
+    (continuous joints: their cos, sin in q).
     """
 
     def __init__(self, robot, tol: float):
@@ -114,30 +127,12 @@ class StateKernel:
         # no continuous joints (cos, sin in q_pin) and, for joint_state, a fixed base
         self.simple = r._q_simple
         self.fixed = r._q_simple and not r.floating_base
+        self.shapes = ((self.nq,), (self.nv,)) if self.simple else None
+        self.args = (r._q_pin, r._v_pin, r._q, r._v, r.nbase, tol)
         q, v = r._q_pin.copy(), r._v_pin.copy()
-        self._configuration = entry(
-            configuration, q, v, q.copy(), v.copy(), r._q.copy(), r._v.copy(), r.nbase, tol
-        )
+        self.take = entry(configuration, _strided(self.nq), _strided(self.nv), q, v,
+                          r._q.copy(), r._v.copy(), r.nbase, tol)
         self._joint_state = entry(joint_state, r._q.copy(), r._v.copy(), q, v, r._q, r._v)
-
-    def configuration(self, q, v) -> bool:
-        """Take Pinocchio's (q, v): True when taken; False: the Python path takes or refuses it."""
-        # (_fits for both, inline: this runs every cycle)
-        if (type(q) is not np.ndarray or type(v) is not np.ndarray or not self.simple
-                or q.shape != (self.nq,) or v.shape != (self.nv,)):
-            return False
-        dq, dv, fq, fv = q.dtype, v.dtype, q.flags, v.flags
-        if not ((dq is _F64 or dq == _F64) and (dv is _F64 or dv == _F64) and fq.c_contiguous
-                and fq.aligned and fv.c_contiguous and fv.aligned) or self._configuration(
-            q, v, self.q_pin, self.v_pin, self.q, self.v, self.nb, self.tol
-        ) != _OK:
-            return False
-        r = self.robot
-        if self.nb:
-            r._base_from_q_pin = True
-        r._stamp += 1
-        r._initialized = True
-        return True
 
     def joint_state(self, q, v) -> bool:
         """Take a fixed base's (q, v): True when taken; False: the Python path's."""

@@ -45,6 +45,11 @@ def two_passes(model, data, q, v) -> None:
     pin.nonLinearEffects(model, data, q, v)
 
 
+def cycle_passes():
+    """(crba, nonLinearEffects, the world convention): :func:`two_passes` for a caller inline."""
+    return pin.crba, pin.nonLinearEffects, _WORLD
+
+
 def matches(model, views) -> bool:
     """
     Tell whether the two passes and :func:`drift` give what computeAllTerms gives.
