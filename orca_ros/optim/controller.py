@@ -237,12 +237,12 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
         step = None if cc is None or self._dirty else cc.fused
         lean = None if step is None else step.lean
         if lean is not None:
-            watch, r, data, b, problem, ws, st, timing, clock, outs, derive, model, crba, nle, \
-                world = lean
-        if lean is not None and not watch.touched and r.data is data and b._set_up:
+            watch, r, data, b, st, problem, frame, derive, model, crba, nle, world = lean
+        if (lean is not None and not watch.touched and r.data is data and b._state is st
+                and b._set_up):
             # the lean cycle (FusedStep.bind says where): CompiledCycle.update and FusedStep
             # inline, as they would run it, nothing having changed since the last cycle (no
-            # object touched, the same Pinocchio Data, DAQP warm)
+            # object touched, the same Pinocchio Data and DAQP state, DAQP warm)
             if r._stamp != cc._pass_stamp and r._terms_stamp != r._stamp:
                 q = r._q_pin
                 crba(model, data, q, world)  # (terms.two_passes)
@@ -251,8 +251,7 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
                 cc._pass_stamp = r._stamp
             b.deadline = deadline
             b.max_iterations = most = self._max_iterations or b.default_max_iterations
-            flags, flag, iters, cap, ns = step._step(ws, st, dt, deadline, most, b.min_iterations,
-                                                     timing, clock, 1, *outs)
+            flags, flag, iters, cap, ns = step._step(frame, dt, deadline, most)
             if flag != 1:
                 fused = step.took(flags, flag, iters, cap, ns)
             else:  # solved and written out: FusedStep.took's success, and this method's

@@ -31,6 +31,7 @@ write contact wrench bounds between assembly and solve (a contact changed).
 from __future__ import annotations
 
 from . import clock, cycle_kernel
+from .step_frame import framed_step, make_frame
 from .terms import cycle_passes
 from ..solvers import ReturnCode
 from ...utils.jit import entry
@@ -59,19 +60,20 @@ class FusedStep:
         """Compile (or load) the kernel for the workspace's types (again on a new one)."""
         self.ws = ws
         b, cc = self.backend, self.cycle
-        self._step = entry(cycle_kernel.step, ws, b._state, 1e-3, 1.0, 1, 1, b.timing,
-                           self.clock, 1, *self.outs)
+        self._state = st = b._state  # (replaced by the back-end at a re-configuration)
+        self.frame = make_frame(ws, st, b.timing, self.outs, self.clock, b.min_iterations,
+                                self.out)
+        self._step = entry(framed_step, self.frame, 1e-3, 1.0, 1)
         # the lean cycle (Controller.update): where a cycle is one Pinocchio pass (two_passes)
         # and this kernel, with nothing else in Python (one level, no contacts, no object
         # updated in Python, no centroidal terms), the controller runs it inline, without
-        # CompiledCycle.update's and this object's frames and tests: ~2.4 us less per cycle on
+        # CompiledCycle.update's and this object's frames and tests: ~2 us less per cycle on
         # the Panda, where the Python around a cycle costs more than its kernel does
         self.lean = None
         if (cc.cascade is None and not cc.python and cc._centroidal is None and cc.two_passes
                 and not cc.owns_layout and not cc.layout.n_wrenches):
-            self.lean = (cc.tables.watch, cc.robot, cc.data, b, self.problem, ws, b._state,
-                         b.timing, self.clock, self.outs, cc._derive, cc.robot.model,
-                         *cycle_passes())
+            self.lean = (cc.tables.watch, cc.robot, cc.data, b, st, self.problem, self.frame,
+                         cc._derive, cc.robot.model, *cycle_passes())
 
     def __call__(self, dt: float, deadline, max_iterations) -> ReturnCode:
         """
@@ -83,11 +85,12 @@ class FusedStep:
         the level's failure handling (``PriorityLevels.first_failed``).
         """
         b = self.backend
+        if b._state is not self._state:
+            self.bind(self.ws)
         b.deadline = deadline
         b.max_iterations = most = max_iterations or b.default_max_iterations
-        return self.took(*self._step(
-            self.ws, b._state, dt, _NONE if deadline is None else deadline, most,
-            b.min_iterations, b.timing, self.clock, self.out, *self.outs))
+        return self.took(*self._step(self.frame, dt, _NONE if deadline is None else deadline,
+                                     most))
 
     def took(self, flags, flag, iters, cap, ns) -> ReturnCode:
         """Take the kernel's results (see ``__call__``): the solve's code, a failure handled."""
