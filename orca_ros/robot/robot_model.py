@@ -238,7 +238,7 @@ class RobotModel(FrameApiMixin, JointLockingMixin):
         # StateKernel: exactly ndarray, float64 itself, the sizes; the kernel checks the values)
         if (fast is not None and type(q) is _ARRAY and type(v) is _ARRAY and q.dtype is _F64
                 and v.dtype is _F64 and fast.shapes is not None and q.shape == fast.shapes[0]
-                and v.shape == fast.shapes[1] and not fast.take(q, v, *fast.args)):
+                and v.shape == fast.shapes[1] and not fast.take(q, v, fast.arrays)):
             if fast.nb:
                 self._base_from_q_pin = True
             self._stamp += 1
