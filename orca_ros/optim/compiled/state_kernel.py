@@ -143,8 +143,8 @@ class StateKernel:
     ``(q, v)`` whose type is exactly ``np.ndarray``, whose dtype is float64 itself and whose
     shapes are :attr:`shapes`, with :attr:`arrays` (the robot's, in one structure) after them.
     The kernel reads them by their strides, so any such vector may come (a column, a slice); it
-    refuses (1) what is not finite, or a base quaternion not of unit norm. ``shapes`` is None where the kernel does not apply
-    (continuous joints: their cos, sin in q).
+    refuses (1) what is not finite, or a base quaternion not of unit norm. ``shapes`` is None
+    where the kernel does not apply (continuous joints: their cos, sin in q).
     """
 
     def __init__(self, robot, tol: float):
