@@ -151,7 +151,7 @@ def test_the_kernels_clock_reads_the_monotonic_clock():
 
 @pytest.mark.parametrize('strategy', ['multi_level_weighted', 'generalized'])
 def test_levels_below_follow_the_one_call_first_level(strategy):
-    """The first level by one call, the levels below by the cascade: the same closed loop."""
+    """The first level by one call (inline), the levels below by the cascade: the same loop."""
     from orca_ros.examples.common import (
         add_conflicting_stack, add_standard_constraints, integrate, STACK_Q0,
     )
@@ -179,6 +179,8 @@ def test_levels_below_follow_the_one_call_first_level(strategy):
             cc.fused._step = lambda *a, step=step, calls=calls: calls.append(1) or step(*a)
         else:
             cc.fused = None
+        cc.updates, update = [], cc.update  # the cycles through CompiledCycle.update
+        cc.update = lambda *a, cc=cc, update=update: cc.updates.append(1) or update(*a)
         runs.append((robot, c, calls))
     q, v = STACK_Q0.copy(), np.zeros(7)
     for k in range(1, 300):
@@ -190,4 +192,8 @@ def test_levels_below_follow_the_one_call_first_level(strategy):
         np.testing.assert_allclose(out[0], out[1], rtol=1e-12, atol=1e-12, err_msg=str(k))
         q, v = integrate(runs[0][0], q, v, out[0], 1e-3)
     assert len(runs[0][2]) == 299
+    # the controller's lean cycle, the cascade included, on every one but the first (which
+    # re-reads what the configuring cycle touched: nothing changed since)
+    assert len(runs[0][1].compiled_cycle.updates) == 1
+    assert len(runs[1][1].compiled_cycle.updates) == 299
     assert np.linalg.norm(v) > 0.1  # the stack moved the arm

@@ -254,12 +254,14 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
             flags, flag, iters, cap, ns = step._step(frame, dt, deadline, most)
             if flag != 1:
                 fused = step.took(flags, flag, iters, cap, ns)
-            else:  # solved and written out: FusedStep.took's success, and this method's
+            else:  # solved: FusedStep.took's success
                 b.iterations = iters
-                problem.return_code = self._return_code = _SUCCESS
+                problem.return_code = fused = _SUCCESS
                 problem.built_finite = True
                 if flags:
                     cc.plan.box_conflicts += flags & 1
+            if fused is _SUCCESS and cc.cascade is None:  # written out: this method's success
+                self._return_code = _SUCCESS
                 levels.contacts_relaxed = False
                 if self._remove_gravity or self._remove_coriolis:
                     self._make_command()

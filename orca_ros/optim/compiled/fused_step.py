@@ -65,13 +65,14 @@ class FusedStep:
                                 self.out)
         self._step = entry(framed_step, self.frame, 1e-3, 1.0, 1)
         # the lean cycle (Controller.update): where a cycle is one Pinocchio pass (two_passes)
-        # and this kernel, with nothing else in Python (one level, no contacts, no object
-        # updated in Python, no centroidal terms), the controller runs it inline, without
-        # CompiledCycle.update's and this object's frames and tests: ~2 us less per cycle on
-        # the Panda, where the Python around a cycle costs more than its kernel does
+        # and this kernel (then the cascade, if levels come below), with nothing else in
+        # Python (no contacts, no object updated in Python, no centroidal terms), the
+        # controller runs it inline, without CompiledCycle.update's and this object's frames
+        # and tests: ~2 us less per cycle on the Panda, where the Python around a cycle costs
+        # more than its kernel does
         self.lean = None
-        if (cc.cascade is None and not cc.python and cc._centroidal is None and cc.two_passes
-                and not cc.owns_layout and not cc.layout.n_wrenches):
+        if (not cc.python and cc._centroidal is None and cc.two_passes and not cc.owns_layout
+                and not cc.layout.n_wrenches):
             self.lean = (cc.tables.watch, cc.robot, cc.data, b, st, self.problem, self.frame,
                          cc._derive, cc.robot.model, *cycle_passes())
 
