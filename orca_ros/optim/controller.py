@@ -305,7 +305,11 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
     def _write_out(self, x, cc) -> None:
         """Take the solution x: accelerations, torques, command, the contacts' wrenches."""
         if cc is not None:
-            cc.finish(x, self._x, self._acc, self._tau, self._tau_cmd)
+            step = cc.fused
+            if step is not None:  # its frame holds these arrays: two arguments instead of six
+                step._finish(step.frame, x)
+            else:
+                cc.finish(x, self._x, self._acc, self._tau, self._tau_cmd)
             return
         lay = self.layout
         self._x[:] = x

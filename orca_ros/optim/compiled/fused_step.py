@@ -31,7 +31,7 @@ write contact wrench bounds between assembly and solve (a contact changed).
 from __future__ import annotations
 
 from . import clock, cycle_kernel
-from .step_frame import framed_step, make_frame
+from .step_frame import framed_finish, framed_step, make_frame
 from .terms import cycle_passes
 from ..solvers import ReturnCode
 from ...utils.jit import entry
@@ -64,6 +64,8 @@ class FusedStep:
         self.frame = make_frame(ws, st, b.timing, self.outs, self.clock, b.min_iterations,
                                 self.out)
         self._step = entry(framed_step, self.frame, 1e-3, 1.0, 1)
+        # the last level's solution written out (Controller._write_out; levels below)
+        self._finish = entry(framed_finish, self.frame, self.outs[0])
         # the lean cycle (Controller.update): where a cycle is one Pinocchio pass (two_passes)
         # and this kernel (then the cascade, if levels come below), with nothing else in
         # Python (no contacts, no object updated in Python, no centroidal terms), the

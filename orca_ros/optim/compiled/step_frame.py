@@ -27,7 +27,7 @@ from __future__ import annotations
 from numba import types
 from numba.experimental import structref
 
-from .cycle_kernel import step
+from .cycle_kernel import finish, step
 from ...utils.jit import njit
 
 #: the fields, in order (see cycle_kernel.step for what each is)
@@ -63,3 +63,9 @@ def framed_step(fr, dt, deadline, most):
     """:func:`.cycle_kernel.step` with the frame's arguments: ``most`` iterations at most."""
     return step(fr.ws, fr.s, dt, deadline, most, fr.least, fr.timing, fr.clock, fr.out,
                 fr.x_out, fr.acc_out, fr.tau, fr.tau_cmd)
+
+
+@njit
+def framed_finish(fr, x):
+    """:func:`.cycle_kernel.finish` into the frame's outputs: the solution ``x`` written out."""
+    finish(fr.ws, x, fr.x_out, fr.acc_out, fr.tau, fr.tau_cmd)
