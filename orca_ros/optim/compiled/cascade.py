@@ -31,6 +31,7 @@ import math
 import numpy as np
 
 from . import clock, daqp_c, direct_daqp, lower_level as L
+from .level_frame import framed_generalized, framed_strict, make_level_frame
 from ..generalized import band_share
 from ..solvers import ReturnCode
 from ...utils.jit import entry
@@ -150,10 +151,12 @@ class _Level:
             )
             self.bands = entry(L.bands, self.state)
             self.bands(self.state)
-            self.fused_gen = entry(
-                L.prepare_and_solve_generalized, self.state, self.reference._state,
-                self.banded._state, b._state, 1.0, 0, 0, b.timing, b.clock,
-            )
+        # the warm solves' kernels with their arguments in one structure (level_frame.py; the
+        # back-ends are the level's for good: made here, never bound again)
+        self.frame = make_level_frame(self.state, b, self.reference, self.banded)
+        self.framed = entry(framed_strict, self.frame, 0, 1.0, 0)
+        if reference is not None:
+            self.framed_gen = entry(framed_generalized, self.frame, 1.0, 0)
         self.releasing = False  # a locked task is ramping: the level is solved in Python
         self.open = False  # some priority below 1: bands from the reference
         self.alpha = 1.0  # the level's priority (GENERALIZED)
@@ -212,8 +215,7 @@ class CompiledCascade:
                 # the steady strict level: prepared and solved warm in one call (_by_kernel's
                 # and solve_prepared's, inline: their frames cost ~1 us per level)
                 b.deadline, b.max_iterations = deadline, most
-                flag, iters, cap, ns = lev.fused(lev.state, b._state, _UPDATE_ALL, late, most,
-                                                 b.min_iterations, b.timing, b.clock)
+                flag, iters, cap, ns = lev.framed(lev.frame, _UPDATE_ALL, late, most)
                 if flag == 1:  # (the time model updated by the kernel)
                     b.iterations = iters
                     p.band = None
@@ -300,11 +302,8 @@ class CompiledCascade:
         p = lev.problem
         ref = _budget(lev.reference, deadline, max_iterations)
         banded, strict = lev.banded, p.locked_backend
-        flag, it_ref, it, stage, cap, ns = lev.fused_gen(
-            lev.state, ref._state, banded._state, strict._state,
-            _NO_DEADLINE if deadline is None else deadline, ref.max_iterations,
-            ref.min_iterations, ref.timing, ref.clock,
-        )
+        flag, it_ref, it, stage, cap, ns = lev.framed_gen(
+            lev.frame, _NO_DEADLINE if deadline is None else deadline, ref.max_iterations)
         if stage == L.S_BANDED:
             p.band = lev.band
         if flag > 0:  # the last solve succeeded (the time model updated by the kernel)
