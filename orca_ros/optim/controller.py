@@ -48,6 +48,7 @@ from ..utils.optional_import import MissingDependency
 
 _LOG = get_logger('controller')
 _SUCCESS = ReturnCode.SUCCESS
+_now = time.perf_counter  # (the deadline's clock: the solvers', the kernels')
 
 
 class Controller(TaskRegistryMixin, PrioritySettingsMixin):
@@ -226,9 +227,7 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
         True when a solution was found.
         """
         self._solution_found = False
-        deadline = time.perf_counter() + (
-            self._time_budget if self._time_budget is not None else dt
-        )
+        deadline = _now() + (self._time_budget if self._time_budget is not None else dt)
         if self._dirty:  # configuration: solvers set up, their solves not time-bounded
             self._configure()
             deadline = None
@@ -249,10 +248,10 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
                 nle(model, data, q, r._v_pin)
                 derive[0] = 1  # the kernel derives the drifts
                 cc._pass_stamp = r._stamp
-            b.deadline = deadline
-            b.max_iterations = most = self._max_iterations or b.default_max_iterations
+            most = self._max_iterations or b.default_max_iterations
             flags, flag, iters, cap, ns = step._step(frame, dt, deadline, most)
             if flag != 1:
+                b.deadline, b.max_iterations = deadline, most  # (what a failure's handling reads)
                 fused = step.took(flags, flag, iters, cap, ns)
             else:  # solved: FusedStep.took's success
                 b.iterations = iters
