@@ -36,8 +36,7 @@ import numpy as np
 import pinocchio as pin
 
 from . import state_input
-from .centroidal_momentum import CentroidalMomentum
-from .com_kinematics import ComKinematics
+from .dynamics_api import DynamicsApiMixin
 from .frame_api import FrameApiMixin
 from .joint_locking import JointLockingMixin
 from ..utils.logger import get_logger
@@ -47,7 +46,7 @@ _ARRAY, _F64 = np.ndarray, np.dtype(np.float64)
 WORLD_FRAME = 'world'
 
 
-class RobotModel(FrameApiMixin, JointLockingMixin):
+class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
     """
     Kinematic/dynamic model of a robot.
 
@@ -329,70 +328,6 @@ class RobotModel(FrameApiMixin, JointLockingMixin):
     def get_base_velocity(self) -> np.ndarray:
         state_input.sync_base(self)
         return self._base_twist_world.copy()
-
-    # ------------------------------------------------------------------ dynamics
-    def get_mass_matrix(self) -> np.ndarray:
-        """Generalized mass matrix (nv x nv); a view valid until the next state change."""
-        self._update_terms()
-        return self.data.M
-
-    def get_generalized_gravity_and_coriolis_torques(self) -> np.ndarray:
-        self._update_terms()
-        return self.data.nle
-
-    def get_generalized_gravity_torques(self) -> np.ndarray:
-        if not self._initialized:
-            self._require_model()
-            raise RuntimeError(
-                f"robot '{self.name}' has no state yet: call set_robot_state() first"
-            )
-        if self._gravity_stamp != self._stamp:
-            self._g = pin.computeGeneralizedGravity(
-                self.model, self._gravity_data, self._q_pin
-            ).copy()
-            self._gravity_stamp = self._stamp
-        return self._g
-
-    def get_joint_gravity_torques(self) -> np.ndarray:
-        return self.get_generalized_gravity_torques()[self.nbase:].copy()
-
-    def get_joint_gravity_and_coriolis_torques(self) -> np.ndarray:
-        return self.get_generalized_gravity_and_coriolis_torques()[self.nbase:].copy()
-
-    def get_joint_coriolis_torques(self) -> np.ndarray:
-        return (
-            self.get_generalized_gravity_and_coriolis_torques()
-            - self.get_generalized_gravity_torques()
-        )[self.nbase:].copy()
-
-    def _com_kinematics(self) -> ComKinematics:
-        self._require_model()
-        if self._com is None:
-            self._com = ComKinematics(self)
-        return self._com
-
-    def get_center_of_mass_terms(self):
-        """
-        (position, jacobian 3 x nv, velocity, bias J_dot nu) of the centre of mass.
-
-        World axes.
-        """
-        return self._com_kinematics().terms()
-
-    def get_centroidal_momentum_terms(self):
-        """
-        (h, A_g 6 x nv, drift A_g_dot nu) of the centroidal momentum h = A_g nu.
-
-        h = [m v_com; angular momentum about the CoM], world-aligned axes at the CoM.
-        """
-        self._require_model()
-        return CentroidalMomentum.of(self).terms()
-
-    def get_center_of_mass(self) -> np.ndarray:
-        return self.get_center_of_mass_terms()[0].copy()
-
-    def get_total_mass(self) -> float:
-        return self._com_kinematics().mass
 
     def print(self) -> None:  # noqa: A003 (ORCA API name)
         lo, hi = self._pos_limits

@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import math
 
-from numba import types
 from numba.experimental import structref
 import numpy as np
 import pinocchio as pin
@@ -43,6 +42,7 @@ import pinocchio as pin
 from .collision_screen import screen
 from .collision_views import placement_view, RES, result_view
 from .kernels import viable_upper
+from .struct_type import StructType
 from ...utils.jit import entry, njit
 
 
@@ -178,9 +178,8 @@ FIELDS = (
 
 
 @structref.register
-class CollisionWorkspaceType(types.StructRef):
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(t)) for name, t in fields)
+class CollisionWorkspaceType(StructType):
+    """Its fields' types: see struct_type."""
 
 
 class CollisionWorkspace(structref.StructRefProxy):

@@ -32,6 +32,7 @@ from numba.experimental import structref
 from numba.extending import intrinsic
 
 from .clock import monotonic_ns
+from .struct_type import StructType
 from ..solvers import time_model
 from ...utils.jit import njit
 
@@ -92,9 +93,8 @@ FIELDS = ('ptrs', 'H', 'g', 'M', 'lo', 'hi', 'd', 'dd', 'inv', 'Hs', 'gs', 'Ms',
 
 
 @structref.register
-class SolveStateType(types.StructRef):
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(t)) for name, t in fields)
+class SolveStateType(StructType):
+    """Its fields' types: see struct_type."""
 
 
 class SolveState(structref.StructRefProxy):

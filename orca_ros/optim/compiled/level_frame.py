@@ -23,10 +23,10 @@ states, their time models, the clock, the iteration floor), made with the level.
 
 from __future__ import annotations
 
-from numba import types
 from numba.experimental import structref
 
 from .lower_level import prepare_and_solve, prepare_and_solve_generalized
+from .struct_type import StructType
 from ...utils.jit import njit
 
 #: the fields, in order: a strict level's reference and banded back-ends are its strict one
@@ -34,9 +34,8 @@ FIELDS = ('s', 'strict', 'ref', 'banded', 'timing', 'ref_timing', 'clock', 'leas
 
 
 @structref.register
-class LevelFrameType(types.StructRef):
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(t)) for name, t in fields)
+class LevelFrameType(StructType):
+    """Its fields' types: see struct_type."""
 
 
 class LevelFrame(structref.StructRefProxy):

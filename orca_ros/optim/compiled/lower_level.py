@@ -34,11 +34,11 @@ from __future__ import annotations
 
 import math
 
-from numba import types
 from numba.experimental import structref
 
 from . import daqp_kernel as K
 from .daqp_c import UPDATE_ALL
+from .struct_type import StructType
 from ...utils.jit import njit
 
 L_KIND, L_ROW, L_N, L_COL, L_W = range(5)
@@ -70,9 +70,8 @@ FIELDS = (
 
 
 @structref.register
-class LevelStateType(types.StructRef):
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(t)) for name, t in fields)
+class LevelStateType(StructType):
+    """Its fields' types: see struct_type."""
 
 
 class LevelState(structref.StructRefProxy):

@@ -26,10 +26,10 @@ from __future__ import annotations
 
 import math
 
-from numba import types
 from numba.experimental import structref
 import numpy as np
 
+from .struct_type import StructType
 from ...utils.jit import entry, njit
 
 _OK, _REFUSED = 0, 1
@@ -54,9 +54,8 @@ def _finite(a, b):
 
 
 @structref.register
-class RobotArraysType(types.StructRef):
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(t)) for name, t in fields)
+class RobotArraysType(StructType):
+    """Its fields' types: see struct_type."""
 
 
 class RobotArrays(structref.StructRefProxy):
@@ -148,16 +147,14 @@ class StateKernel:
     """
 
     def __init__(self, robot, tol: float):
-        self.tol = tol
         self.robot = r = robot
-        self.q_pin, self.v_pin, self.q, self.v = r._q_pin, r._v_pin, r._q, r._v
-        self.nq, self.nv, self.ndof, self.nb = r.model.nq, r.model.nv, r.ndof, r.nbase
+        nq, nv, self.ndof, self.nb = r.model.nq, r.model.nv, r.ndof, r.nbase
         # no continuous joints (cos, sin in q_pin) and, for joint_state, a fixed base
         self.simple = r._q_simple
         self.fixed = r._q_simple and not r.floating_base
-        self.shapes = ((self.nq,), (self.nv,)) if self.simple else None
+        self.shapes = ((nq,), (nv,)) if self.simple else None
         self.arrays = _robot_arrays(r._q_pin, r._v_pin, r._q, r._v, r.nbase, tol)
-        self.take = entry(configuration, _strided(self.nq), _strided(self.nv), self.arrays)
+        self.take = entry(configuration, _strided(nq), _strided(nv), self.arrays)
         self._joint_state = entry(joint_state, r._q.copy(), r._v.copy(), self.arrays)
 
     def joint_state(self, q, v) -> bool:

@@ -24,10 +24,10 @@ bound (:class:`.fused_step.FusedStep`), again when any of them is replaced.
 
 from __future__ import annotations
 
-from numba import types
 from numba.experimental import structref
 
 from .cycle_kernel import finish, step
+from .struct_type import StructType
 from ...utils.jit import njit
 
 #: the fields, in order (see cycle_kernel.step for what each is)
@@ -35,9 +35,8 @@ FIELDS = ('ws', 's', 'timing', 'x_out', 'acc_out', 'tau', 'tau_cmd', 'clock', 'l
 
 
 @structref.register
-class StepFrameType(types.StructRef):
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(t)) for name, t in fields)
+class StepFrameType(StructType):
+    """Its fields' types: see struct_type."""
 
 
 class StepFrame(structref.StructRefProxy):

@@ -22,9 +22,9 @@ the others. Made once per configuration.
 
 from __future__ import annotations
 
-from numba import types
 from numba.experimental import structref
 
+from .struct_type import StructType
 from ...utils.jit import njit
 
 #: the fields, in order (see CompiledCycle for what each is)
@@ -53,9 +53,8 @@ FIELDS = (
 
 
 @structref.register
-class CycleWorkspaceType(types.StructRef):
-    def preprocess_fields(self, fields):
-        return tuple((name, types.unliteral(t)) for name, t in fields)
+class CycleWorkspaceType(StructType):
+    """Its fields' types: see struct_type."""
 
 
 class CycleWorkspace(structref.StructRefProxy):
