@@ -17,6 +17,8 @@ Bridge and controller as separate processes.
 Lockstep, private ROS domain, localhost discovery.
 """
 
+import os
+
 import numpy as np
 from orca_ros.ros.launch_free import free_domain_id, Procs
 from orca_ros.ros.probe import Probe
@@ -254,3 +256,14 @@ def test_pause_enable_and_diagnostics(system):
     d = probe.diagnostics
     assert 1e3 * float(d['state_to_command_median_ms']) >= float(d['solve_time_median_us'])
     assert float(d['state_to_command_p99_ms']) >= float(d['state_to_command_median_ms'])
+    # the shipped thread_priority (50, as ros2_control's): every thread of the controller's process
+    # at SCHED_FIFO 50 where the system allows it, else all at normal priority and the refusal
+    # named; the diagnostics say which
+    pid = next(p.pid for p, _, name in procs.procs if name == 'controller')
+    tids = [int(t) for t in os.listdir(f'/proc/{pid}/task')]
+    sched = {(os.sched_getscheduler(t), os.sched_getparam(t).sched_priority) for t in tids}
+    if d['scheduling_refused']:
+        assert d['scheduling'] == 'normal' and sched == {(os.SCHED_OTHER, 0)}
+        assert d['scheduling_refused'].startswith('could not set SCHED_FIFO priority 50')
+    else:
+        assert d['scheduling'] == 'SCHED_FIFO 50' and sched == {(os.SCHED_FIFO, 50)}

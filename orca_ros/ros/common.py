@@ -118,6 +118,10 @@ def run_node(node_class, args=None, on_shutdown: str | None = None) -> int:
     code = 0
     try:
         node = node_class()
+        # process-wide settings (scheduling) belong to the process that runs the node, not to a
+        # node built inside another program: applied here, before the executor's threads start
+        if hasattr(node, 'configure_process'):
+            node.configure_process()
         executor = make_executor()
         executor.add_node(node)
         while not received and rclpy.ok() and node.context.ok():

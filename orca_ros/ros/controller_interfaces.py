@@ -88,7 +88,9 @@ class ControllerInterfaces:
         self._timing_pub = self.create_publisher(Float64MultiArray, '~/cycle_timing', DEFAULT_QOS)
         self._timing_sent = 0
         if feedback_rate > 0:
-            self.create_timer(1.0 / feedback_rate, self._publish_feedback)
+            self.create_timer(
+                1.0 / feedback_rate, self.housekeeping.timer_callback(self._publish_feedback)
+            )
         for name, active in self.setup.initially_active.items():
             obj = self.setup.tasks.get(name) or self.controller.get_constraint(name)
             if active:
@@ -286,7 +288,8 @@ class ControllerInterfaces:
         self._target_time.clear()
 
     # -------------------------------------------------------------- feedback and diagnostics
-    def _publish_feedback(self) -> None:
+    def _publish_feedback(self):
+        """Publish each task's pose and error (a job: one slice per task, then the timing)."""
         if not self._have_state:
             return
         stamp = self.get_clock().now().to_msg()
@@ -308,6 +311,7 @@ class ControllerInterfaces:
             elif isinstance(task, JointAccelerationTask):
                 err.data = task.get_position_error().tolist()
             err_pub.publish(err)
+            yield
         self._publish_cycle_timing()
         self.publish_markers()
 

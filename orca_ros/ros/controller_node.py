@@ -51,8 +51,10 @@ from .controller_diagnostics import ControllerDiagnostics
 from .controller_interfaces import ControllerInterfaces
 from .controller_markers import ControllerMarkers
 from .guarded_node import GuardedNode
+from .housekeeping import Housekeeping
 from .joint_state_input import JointStateInput
 from .live_parameters import LiveParameters
+from .realtime import configure_scheduling, scheduling_text
 from .obstacle_markers import ObstacleMarkers
 from .state_reception import StateReception
 from .target_smoothing import TargetSmoothing
@@ -162,8 +164,14 @@ class OrcaControllerNode(
         # collects the youngest generation between cycles (the cycle itself allocates little and
         # creates no reference cycles)
         self.manage_gc = bool(param(self, 'manage_gc', True))
+        # real-time scheduling of the node's process (see realtime.py), as ros2_control's
+        self.thread_priority = int(param(self, 'thread_priority', 50))
+        self.cpu_affinity = [int(c) for c in param(self, 'cpu_affinity', [])]
+        self.scheduling_refused = ''  # why the request above was not met (for /diagnostics)
         self._gc_frozen = False
         self._last_loop_wall = None
+        # feedback, diagnostics and garbage collection run in the slack after a cycle's command
+        self.housekeeping = Housekeeping(self.period, self._housekeeping_failed)
         self._init_command_output()
         self.create_subscription(JointState, 'joint_states', self._on_joint_state, STATE_QOS)
         # floating base: the base pose and twist come from odom (nav_msgs/Odometry, twist in
@@ -190,7 +198,10 @@ class OrcaControllerNode(
             float(param(self, 'diagnostics_rate', 5.0)), float(param(self, 'feedback_rate', 50.0))
         )
         if self.manage_gc:
-            self.create_timer(float(param(self, 'gc_period', 1.0)), self._collect_garbage)
+            self.create_timer(
+                float(param(self, 'gc_period', 1.0)),
+                self.housekeeping.timer_callback(self._collect_garbage),
+            )
         if self.trigger == 'timer':
             self.create_timer(self.period, self._control_step)
         elif self.trigger != 'joint_state':
@@ -251,6 +262,13 @@ class OrcaControllerNode(
         return time.monotonic()
 
     def _control_step(self) -> None:
+        self._cycle()
+        self.housekeeping.after_cycle()
+
+    def _housekeeping_failed(self, name: str, exc: Exception) -> None:
+        self.say('error', f'raised:{name}', f"timer '{name}' raised {type(exc).__name__}: {exc}")
+
+    def _cycle(self) -> None:
         if not self._have_state or self._stopped:
             return  # nothing is sent before the first valid state, nor after the shutdown hold
         wall = time.monotonic()
@@ -327,6 +345,13 @@ class OrcaControllerNode(
         """
         if self._have_state and not self._stopped and 'control_step' in what:
             self._publish_safe(self._now(), 'safe:error', f'{what} raised {type(exc).__name__}')
+
+    def configure_process(self) -> None:
+        """Apply ``thread_priority`` and ``cpu_affinity`` to this process (its entry point calls)."""
+        for level, text in configure_scheduling(self.thread_priority, self.cpu_affinity):
+            getattr(self.get_logger(), level)(text)
+            if level != 'info':
+                self.scheduling_refused = text
 
     def _collect_garbage(self) -> None:
         """

@@ -39,7 +39,7 @@ class ParamRejected(ValueError):
 @dataclass(frozen=True)
 class ParamSpec:
     name: str
-    kind: str  # "float", "floats" (one or several), "bool", "int", "str", "strs"
+    kind: str  # "float", "floats" (one or several), "bool", "int", "ints", "str", "strs"
     live: bool
     doc: str
     low: float = -math.inf
@@ -126,6 +126,15 @@ SCHEMA: tuple[ParamSpec, ...] = (
     ParamSpec('marker_force_scale', _F, False, 'contact force arrows [m/N]', 0.0, 1.0),
     ParamSpec('manage_gc', _B, False, 'keep the garbage collector out of the cycle'),
     ParamSpec('gc_period', _F, False, 'young-generation collection period [s]', 0.01, 3600.0),
+    ParamSpec(
+        'thread_priority',
+        'int',
+        False,
+        "SCHED_FIFO priority of the node's process (0: normal scheduling; refused: a warning)",
+        0,
+        99,
+    ),
+    ParamSpec('cpu_affinity', 'ints', False, 'CPUs the process is pinned to (empty: all)', 0, 1023),
     ParamSpec('tasks.<task>.type', 'str', False, 'task type'),
     ParamSpec('tasks.<task>.frame', 'str', False, 'controlled frame'),
     ParamSpec('tasks.<task>.level', 'int', False, 'priority level', 0, 100),

@@ -1,0 +1,135 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+A node's periodic jobs that are not control (feedback, diagnostics, garbage collection).
+
+Why: the control cycle and these jobs share one executor thread. A job that runs when its own
+timer fires may hold the thread when the control timer is due, and that cycle is late by the
+job's length. Measured in the 1 kHz node (shipped YAML, bridge on the same two cores): the
+diagnostics report took 1.9 ms, the feedback 0.4 ms, a young-generation collection 0.3 ms;
+they made most of the control periods above 1.2 ms.
+
+How: a job is a generator function; each ``yield`` marks where it may pause. While the control
+loop runs (a cycle ended less than two periods ago), a job's timer only queues it, and each cycle,
+once its command is out, runs one slice of the queued jobs: the slices fill the slack of the
+period instead of delaying the next cycle. When the loop does not run (no state yet, a paused
+simulator), the timer runs the whole job at once, as before.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+import time
+
+
+def run_to_end(slices):
+    """Run a job's slices (a generator) to the end; return what it returns."""
+    while True:
+        try:
+            next(slices)
+        except StopIteration as stop:
+            return stop.value
+
+
+class Housekeeping:
+    """
+    Queue of a node's slow periodic jobs, run in slices after its control cycles.
+
+    ``period``: the control period [s]; ``on_error(name, exc)``: told of a job that raised (the
+    job is dropped, the cycle goes on); ``clock``: monotonic seconds.
+    """
+
+    def __init__(self, period: float, on_error, clock=time.monotonic):
+        self.period = float(period)
+        self.on_error = on_error
+        self._clock = clock
+        self._last_cycle = float('-inf')
+        self._queue: deque = deque()
+        self._current = None  # (name, generator) of the job being run
+        self.slices_run = 0
+
+    def in_loop(self) -> bool:
+        """Whether the control loop runs (a cycle ended less than two periods ago)."""
+        return self._clock() - self._last_cycle < 2.0 * self.period
+
+    def timer_callback(self, job):
+        """
+        Make the timer callback of ``job``: a function without arguments, run in one slice, or a
+        generator function, run in as many slices as it yields plus one.
+
+        In the loop: queue the job (once: a job queued or in progress is not queued again). Out
+        of it: finish what is queued, then run the job whole.
+        """
+        name = getattr(job, '__name__', 'job').lstrip('_')
+
+        def due() -> None:
+            if self.in_loop():
+                pending = [n for n, _ in self._queue]
+                if self._current is not None:
+                    pending.append(self._current[0])
+                if name not in pending:
+                    self._queue.append((name, job))
+                return
+            self.drain()
+            self._run(name, job)
+
+        due.__name__ = name
+        return due
+
+    def after_cycle(self) -> None:
+        """Call once a cycle's command is out: run one slice of the queued jobs."""
+        self._last_cycle = self._clock()
+        if self._current is None:
+            if not self._queue:
+                return
+            name, job = self._queue.popleft()
+            self.slices_run += 1
+            try:
+                slices = job()  # a plain function runs here, whole
+            except Exception as exc:  # noqa: BLE001 - a job must not touch the control cycle
+                self.on_error(name, exc)
+                return
+            if not hasattr(slices, '__next__'):
+                return
+            self._current = (name, slices)
+        else:
+            self.slices_run += 1
+        name, slices = self._current
+        try:
+            next(slices)
+        except StopIteration:
+            self._current = None
+        except Exception as exc:  # noqa: BLE001
+            self._current = None
+            self.on_error(name, exc)
+
+    def drain(self) -> None:
+        """Finish the job in progress and every queued one."""
+        while self._current is not None or self._queue:
+            if self._current is None:
+                self._run(*self._queue.popleft())
+            else:
+                name, slices = self._current
+                self._current = None
+                self._run(name, None, slices)
+
+    def _run(self, name: str, job, slices=None) -> None:
+        """Run ``job`` whole, or finish its ``slices`` (a generator) when given."""
+        try:
+            if slices is None:
+                slices = job()
+            if hasattr(slices, '__next__'):
+                run_to_end(slices)
+        except Exception as exc:  # noqa: BLE001
+            self.on_error(name, exc)
