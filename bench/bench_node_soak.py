@@ -188,6 +188,8 @@ def soak(minutes: float, warmup: float, rate: float, window_s: float = 10.0, ext
         'rss_trace': rss_trace,
         'budget': d1.get('solver_budget', '?'),
         'solver': d1.get('solver', '?'),
+        'scheduling': d1.get('scheduling', '?'),
+        'scheduling_refused': d1.get('scheduling_refused', ''),
         'solve_median_us': float(d1.get('solve_time_median_us', 'nan')),
         'solve_p99_us': float(d1.get('solve_time_p99_us', 'nan')),
         'qp_failures': int(d1.get('qp_failures', 0)) - int(d0.get('qp_failures', 0)),
@@ -221,6 +223,8 @@ def main(argv=None) -> int:
         f"{r['windows']} windows of 10 s"
     )
     print(f"achieved rate {r['rate_hz']:.1f} Hz; controller alive at the end: {r['alive']}")
+    refused = f" (refused: {r['scheduling_refused']})" if r['scheduling_refused'] else ''
+    print(f"controller's scheduling: {r['scheduling']}{refused}")
     print(
         f"solver {r['solver']}, budget {r['budget']}; solve time (last window) median "
         f"{r['solve_median_us']:.1f} us, p99 {r['solve_p99_us']:.1f} us; after warm-up: "
