@@ -26,7 +26,7 @@ import sys
 from orca_ros.ros.realtime import configure_scheduling, scheduling_text
 import pytest
 
-CHILD = r'''
+CHILD = r"""
 import json, os, sys, threading
 from orca_ros.ros.realtime import configure_scheduling, process_threads, scheduling_text
 priority, cpus = int(sys.argv[1]), json.loads(sys.argv[2])
@@ -46,7 +46,7 @@ threads = {t: [os.sched_getscheduler(t), os.sched_getparam(t).sched_priority,
 ev.set(); before.join()
 print(json.dumps({'lines': lines, 'threads': threads, 'after': got['after'],
                   'text': scheduling_text()}))
-'''
+"""
 
 
 def child(priority, cpus, preexec=None):
@@ -66,7 +66,8 @@ def test_fifo_and_affinity_reach_every_thread_and_the_threads_started_later():
     for tid, sched in r['threads'].items():
         assert sched == [os.SCHED_FIFO, 50, [cpu]], tid
     assert r['after'] == [os.SCHED_FIFO, 50, [cpu]]
-    assert r['lines'][0] == ['info', f"SCHED_FIFO priority 50 set on {len(r['threads'])} thread(s)"]
+    n = len(r['threads'])
+    assert r['lines'][0] == ['info', f'SCHED_FIFO priority 50 set on {n} thread(s)']
     assert r['lines'][1] == ['info', f'pinned to CPU(s) [{cpu}]']
     want = f'SCHED_FIFO 50, CPUs {cpu}' if os.cpu_count() > 1 else 'SCHED_FIFO 50'
     assert r['text'] == want

@@ -54,8 +54,8 @@ from .guarded_node import GuardedNode
 from .housekeeping import Housekeeping
 from .joint_state_input import JointStateInput
 from .live_parameters import LiveParameters
-from .realtime import configure_scheduling, scheduling_text
 from .obstacle_markers import ObstacleMarkers
+from .realtime import configure_scheduling
 from .state_reception import StateReception
 from .target_smoothing import TargetSmoothing
 from ..configuration import build_from_config
@@ -347,7 +347,7 @@ class OrcaControllerNode(
             self._publish_safe(self._now(), 'safe:error', f'{what} raised {type(exc).__name__}')
 
     def configure_process(self) -> None:
-        """Apply ``thread_priority`` and ``cpu_affinity`` to this process (its entry point calls)."""
+        """Apply ``thread_priority`` and ``cpu_affinity`` to the process (run_node calls it)."""
         for level, text in configure_scheduling(self.thread_priority, self.cpu_affinity):
             getattr(self.get_logger(), level)(text)
             if level != 'info':

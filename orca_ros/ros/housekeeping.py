@@ -65,8 +65,10 @@ class Housekeeping:
 
     def timer_callback(self, job):
         """
-        Make the timer callback of ``job``: a function without arguments, run in one slice, or a
-        generator function, run in as many slices as it yields plus one.
+        Make the timer callback of ``job``.
+
+        ``job``: a function without arguments, run in one slice, or a generator function, run in
+        as many slices as it yields plus one.
 
         In the loop: queue the job (once: a job queued or in progress is not queued again). Out
         of it: finish what is queued, then run the job whole.

@@ -134,7 +134,9 @@ SCHEMA: tuple[ParamSpec, ...] = (
         0,
         99,
     ),
-    ParamSpec('cpu_affinity', 'ints', False, 'CPUs the process is pinned to (empty: all)', 0, 1023),
+    ParamSpec(
+        'cpu_affinity', 'ints', False, 'CPUs the process is pinned to (empty: all)', 0, 1023
+    ),
     ParamSpec('tasks.<task>.type', 'str', False, 'task type'),
     ParamSpec('tasks.<task>.frame', 'str', False, 'controlled frame'),
     ParamSpec('tasks.<task>.level', 'int', False, 'priority level', 0, 100),

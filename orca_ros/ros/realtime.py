@@ -58,7 +58,9 @@ def configure_scheduling(priority: int, cpus) -> list[tuple[str, str]]:
     priority = int(priority)
     cpus = sorted({int(c) for c in cpus or ()})
     if not 0 <= priority <= 99:
-        out.append(('error', f'thread_priority {priority} is outside [0, 99]: scheduling left alone'))
+        out.append(
+            ('error', f'thread_priority {priority} is outside [0, 99]: scheduling left alone')
+        )
         priority = 0
     threads = process_threads()
     if priority > 0:
@@ -104,7 +106,7 @@ def configure_scheduling(priority: int, cpus) -> list[tuple[str, str]]:
 
 
 def scheduling_text(tid: int = 0) -> str:
-    """Describe a thread's scheduling as it is (0: the calling one), e.g. ``SCHED_FIFO 50, CPUs 1``."""
+    """Describe a thread's scheduling as it is (0: the calling one): ``SCHED_FIFO 50, CPUs 1``."""
     try:
         policy = os.sched_getscheduler(tid)
         prio = os.sched_getparam(tid).sched_priority
