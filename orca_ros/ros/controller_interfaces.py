@@ -289,17 +289,20 @@ class ControllerInterfaces:
 
     # -------------------------------------------------------------- feedback and diagnostics
     def _publish_feedback(self):
-        """Publish each task's pose and error (a job: one slice per task, then the timing)."""
+        """
+        Publish each task's pose and error, the cycles' timing and the markers.
+
+        A job (housekeeping.py): one slice per task, each stamped when it runs.
+        """
         if not self._have_state:
             return
-        stamp = self.get_clock().now().to_msg()
         for name, task in self.setup.tasks.items():
             pose_pub, err_pub = self._feedback_pubs[name]
             err = Float64MultiArray()
             if isinstance(task, CartesianTask):
                 servo = task.servo_controller()
                 msg = PoseStamped()
-                msg.header.stamp = stamp
+                msg.header.stamp = self.get_clock().now().to_msg()
                 msg.header.frame_id = self.robot.get_base_frame()
                 matrix_to_pose(servo.get_current_cartesian_pose(), msg.pose)
                 pose_pub.publish(msg)
@@ -313,6 +316,7 @@ class ControllerInterfaces:
             err_pub.publish(err)
             yield
         self._publish_cycle_timing()
+        yield
         self.publish_markers()
 
     def _publish_cycle_timing(self) -> None:
