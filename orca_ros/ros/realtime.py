@@ -19,10 +19,10 @@ As ros2_control's controller manager does, the node asks for ``SCHED_FIFO`` at
 lists CPUs, pins itself to them. Every thread of the process at that moment is set (the executor's,
 the middleware's), and threads started later inherit it from their creator.
 
-Why (measured, bench/bench_node_soak.py's pair on 2 cores): at normal priority the control
-timer's wake-up waited behind the simulator and the middleware's threads; cycles started up to
-~1.3 ms late, and a cycle was preempted half-way. At ``SCHED_FIFO`` the period's p99 went from
-~1.2-1.5 ms to ~1.08 ms.
+Why (measured, bench/bench_node_soak.py's pair on 2 cores, 10 minutes each): at normal
+priority the control timer's wake-up waited behind the simulator and the middleware's threads
+(the late cycles started ~1.3 ms after the previous one ended), and a cycle was preempted
+half-way. The period's p99 was 1.535 ms at normal priority, 1.086 ms at ``SCHED_FIFO`` 50.
 
 Where the system refuses (no ``CAP_SYS_NICE``, no ``rtprio`` limit, a container), the node says
 so in one warning and runs at normal priority: nothing else changes. A CPU that is not available
