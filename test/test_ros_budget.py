@@ -74,6 +74,12 @@ def test_timer_loop_keeps_its_period_and_its_fallback_under_a_failing_qp(tmp_pat
             'constraints.torque_limit.max:=0.1',
             '-p',
             'constraints.velocity_limit.max:=0.001',
+            # normal scheduling, whose lost periods this test accounts for (the time the loop
+            # waited for a CPU). At SCHED_FIFO (the default where allowed) the loop waits for
+            # none; beside two CPU burners it still lost 6 % of its periods, not yet explained
+            # (at normal priority: 59 %, all accounted for)
+            '-p',
+            'thread_priority:=0',
         ),
         bridge_args=('-p', 'rate:=1000.0'),
     )
