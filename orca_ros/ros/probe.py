@@ -161,6 +161,8 @@ class Probe:
             with self.lock:
                 self.diagnostics = {kv.key: kv.value for kv in st.values}
                 self.diagnostics['_message'] = st.message
+                # the report's time on the node's clock (its publication)
+                self.diagnostics['_stamp'] = m.header.stamp.sec + m.header.stamp.nanosec * 1e-9
                 self.diagnostics['_level'] = (
                     int.from_bytes(st.level, 'little')
                     if isinstance(st.level, bytes)
