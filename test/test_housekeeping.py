@@ -13,7 +13,7 @@
 # limitations under the License.
 """The node's slow jobs run in the slack after its cycles, one slice per cycle (a fake clock)."""
 
-from orca_ros.ros.housekeeping import Housekeeping, run_to_end
+from orca_ros.ros.housekeeping import Housekeeping
 
 
 class Clock:
@@ -121,16 +121,3 @@ def test_a_raising_job_is_reported_and_dropped_and_the_others_go_on():
     clock.t += 1.0
     broken()
     assert errors[-1] == ('broken', 'bad feedback')
-
-
-def test_run_to_end_returns_what_the_slices_return():
-    def stats():
-        yield
-        yield
-        return {'p99': 1.1}
-
-    def report():
-        s = yield from stats()
-        return s['p99']
-
-    assert run_to_end(report()) == 1.1

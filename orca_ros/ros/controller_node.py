@@ -171,7 +171,9 @@ class OrcaControllerNode(
         self._gc_frozen = False
         self._last_loop_wall = None
         # feedback, diagnostics and garbage collection run in the slack after a cycle's command
-        self.housekeeping = Housekeeping(self.period, self._housekeeping_failed)
+        self.housekeeping = Housekeeping(
+            self.period, lambda name, exc: self.say_raised(f"timer '{name}'", exc)
+        )
         self._init_command_output()
         self.create_subscription(JointState, 'joint_states', self._on_joint_state, STATE_QOS)
         # floating base: the base pose and twist come from odom (nav_msgs/Odometry, twist in
@@ -265,9 +267,6 @@ class OrcaControllerNode(
         self._cycle()
         self.housekeeping.after_cycle()
 
-    def _housekeeping_failed(self, name: str, exc: Exception) -> None:
-        self.say('error', f'raised:{name}', f"timer '{name}' raised {type(exc).__name__}: {exc}")
-
     def _cycle(self) -> None:
         if not self._have_state or self._stopped:
             return  # nothing is sent before the first valid state, nor after the shutdown hold
@@ -348,10 +347,12 @@ class OrcaControllerNode(
 
     def configure_process(self) -> None:
         """Apply ``thread_priority`` and ``cpu_affinity`` to the process (run_node calls it)."""
+        refused = []
         for level, text in configure_scheduling(self.thread_priority, self.cpu_affinity):
             getattr(self.get_logger(), level)(text)
             if level != 'info':
-                self.scheduling_refused = text
+                refused.append(text)
+        self.scheduling_refused = '; '.join(refused)
 
     def _collect_garbage(self) -> None:
         """

@@ -40,12 +40,16 @@ class GuardedNode(Node):
         A hook; by default nothing beyond the log line.
         """
 
+    def say_raised(self, what: str, exc: Exception) -> None:
+        """Log, throttled per ``what``, that ``what`` (a callback, a job) raised ``exc``."""
+        self.say('error', f'raised:{what}', f'{what} raised {type(exc).__name__}: {exc}')
+
     def _guard(self, what: str, fn, service: bool = False):
         def call(*args):
             try:
                 return fn(*args)
             except Exception as exc:  # noqa: BLE001 - the point: nothing escapes into the executor
-                self.say('error', f'raised:{what}', f'{what} raised {type(exc).__name__}: {exc}')
+                self.say_raised(what, exc)
                 try:
                     self.on_callback_error(what, exc)
                 except Exception as exc2:  # noqa: BLE001

@@ -33,15 +33,6 @@ from collections import deque
 import time
 
 
-def run_to_end(slices):
-    """Run a job's slices (a generator) to the end; return what it returns."""
-    while True:
-        try:
-            next(slices)
-        except StopIteration as stop:
-            return stop.value
-
-
 class Housekeeping:
     """
     Queue of a node's slow periodic jobs, run in slices after its control cycles.
@@ -76,15 +67,13 @@ class Housekeeping:
         name = getattr(job, '__name__', 'job').lstrip('_')
 
         def due() -> None:
-            if self.in_loop():
-                pending = [n for n, _ in self._queue]
-                if self._current is not None:
-                    pending.append(self._current[0])
-                if name not in pending:
-                    self._queue.append((name, job))
-                return
-            self.drain()
-            self._run(name, job)
+            pending = [n for n, _ in self._queue]
+            if self._current is not None:
+                pending.append(self._current[0])
+            if name not in pending:
+                self._queue.append((name, job))
+            if not self.in_loop():
+                self.drain()
 
         due.__name__ = name
         return due
@@ -95,43 +84,40 @@ class Housekeeping:
         if self._current is None:
             if not self._queue:
                 return
-            name, job = self._queue.popleft()
             self.slices_run += 1
-            try:
-                slices = job()  # a plain function runs here, whole
-            except Exception as exc:  # noqa: BLE001 - a job must not touch the control cycle
-                self.on_error(name, exc)
+            self._current = self._start(*self._queue.popleft())  # a plain function runs here
+            if self._current is None:
                 return
-            if not hasattr(slices, '__next__'):
-                return
-            self._current = (name, slices)
         else:
             self.slices_run += 1
-        name, slices = self._current
-        try:
-            next(slices)
-        except StopIteration:
+        if not self._step(*self._current):
             self._current = None
-        except Exception as exc:  # noqa: BLE001
-            self._current = None
-            self.on_error(name, exc)
 
     def drain(self) -> None:
         """Finish the job in progress and every queued one."""
         while self._current is not None or self._queue:
             if self._current is None:
-                self._run(*self._queue.popleft())
-            else:
-                name, slices = self._current
-                self._current = None
-                self._run(name, None, slices)
+                self._current = self._start(*self._queue.popleft())
+            while self._current is not None and self._step(*self._current):
+                pass
+            self._current = None
 
-    def _run(self, name: str, job, slices=None) -> None:
-        """Run ``job`` whole, or finish its ``slices`` (a generator) when given."""
+    def _start(self, name: str, job):
+        """Call ``job``: (name, its slices) to run on, or None when it ran whole or raised."""
         try:
-            if slices is None:
-                slices = job()
-            if hasattr(slices, '__next__'):
-                run_to_end(slices)
+            slices = job()
+        except Exception as exc:  # noqa: BLE001 - a job must not touch the control cycle
+            self.on_error(name, exc)
+            return None
+        return (name, slices) if hasattr(slices, '__next__') else None
+
+    def _step(self, name: str, slices) -> bool:
+        """Run one slice of a job; False when the job has ended (or raised)."""
+        try:
+            next(slices)
+            return True
+        except StopIteration:
+            return False
         except Exception as exc:  # noqa: BLE001
             self.on_error(name, exc)
+            return False

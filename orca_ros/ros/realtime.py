@@ -69,7 +69,7 @@ def configure_scheduling(priority: int, cpus) -> list[tuple[str, str]]:
         else:
             try:
                 for tid in threads:
-                    os.sched_setscheduler(tid, os.SCHED_FIFO, os.sched_param(priority))
+                    _each(os.sched_setscheduler, tid, os.SCHED_FIFO, os.sched_param(priority))
                 out.append(
                     ('info', f'SCHED_FIFO priority {priority} set on {len(threads)} thread(s)')
                 )
@@ -100,9 +100,17 @@ def configure_scheduling(priority: int, cpus) -> list[tuple[str, str]]:
             )
         else:
             for tid in threads:
-                os.sched_setaffinity(tid, cpus)
+                _each(os.sched_setaffinity, tid, cpus)
             out.append(('info', f'pinned to CPU(s) {cpus}'))
     return out
+
+
+def _each(setter, tid: int, *args) -> None:
+    """Apply ``setter`` to thread ``tid``; a thread that ended since it was listed is skipped."""
+    try:
+        setter(tid, *args)
+    except ProcessLookupError:
+        pass
 
 
 def scheduling_text(tid: int = 0) -> str:
