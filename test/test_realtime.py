@@ -61,7 +61,8 @@ def test_fifo_and_affinity_reach_every_thread_and_the_threads_started_later():
     cpu = max(os.sched_getaffinity(0))
     r = child(50, [cpu])
     if any(level == 'warning' for level, _ in r['lines']):
-        pytest.skip(f'this machine refuses SCHED_FIFO: {r["lines"]}')
+        lines = r['lines']
+        pytest.skip(f'this machine refuses SCHED_FIFO: {lines}')
     assert len(r['threads']) >= 2  # the main thread and the one started before
     for tid, sched in r['threads'].items():
         assert sched == [os.SCHED_FIFO, 50, [cpu]], tid
