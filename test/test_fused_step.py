@@ -174,9 +174,10 @@ def test_levels_below_follow_the_one_call_first_level(strategy):
         cc = c.compiled_cycle
         assert cc.fused is not None and cc.cascade is not None, cc.describe()
         calls = []
-        if one_call:
-            step = cc.fused._step
+        if one_call:  # the first level by one call; in the lean cycle, every level below too
+            step, cs = cc.fused._step, cc.fused.cascade_step
             cc.fused._step = lambda *a, step=step, calls=calls: calls.append(1) or step(*a)
+            cs.run = lambda *a, run=cs.run, calls=calls: calls.append(2) or run(*a)
         else:
             cc.fused = None
         cc.updates, update = [], cc.update  # the cycles through CompiledCycle.update
@@ -192,8 +193,9 @@ def test_levels_below_follow_the_one_call_first_level(strategy):
         np.testing.assert_allclose(out[0], out[1], rtol=1e-12, atol=1e-12, err_msg=str(k))
         q, v = integrate(runs[0][0], q, v, out[0], 1e-3)
     assert len(runs[0][2]) == 299
-    # the controller's lean cycle, the cascade included, on every one but the first (which
-    # re-reads what the configuring cycle touched: nothing changed since)
+    # the controller's lean cycle, the levels below in the same kernel call, on every one but
+    # the first (which re-reads what the configuring cycle touched: nothing changed since)
+    assert runs[0][2].count(2) == 298
     assert len(runs[0][1].compiled_cycle.updates) == 1
     assert len(runs[1][1].compiled_cycle.updates) == 299
     assert np.linalg.norm(v) > 0.1  # the stack moved the arm

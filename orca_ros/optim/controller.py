@@ -233,6 +233,7 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
             deadline = None
         cc, levels = self.compiled_cycle, self._levels
         fused = None  # the first level's code where the compiled cycle took one call
+        solved = None  # what every level's solve returned, where one call took them all
         step = None if cc is None or self._dirty else cc.fused
         lean = None if step is None else step.lean
         if lean is not None:
@@ -249,25 +250,29 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
                 derive[0] = 1  # the kernel derives the drifts
                 cc._pass_stamp = r._stamp
             most = self._max_iterations or b.default_max_iterations
-            flags, flag, iters, cap, ns = step._step(frame, dt, deadline, most)
-            if flag != 1:
-                b.deadline, b.max_iterations = deadline, most  # (what a failure's handling reads)
-                fused = step.took(flags, flag, iters, cap, ns)
-            else:  # solved: FusedStep.took's success
-                b.iterations = iters
-                problem.return_code = fused = _SUCCESS
-                problem.built_finite = True
-                if flags:
-                    cc.plan.box_conflicts += flags & 1
-            if fused is _SUCCESS and cc.cascade is None:  # written out: this method's success
-                self._return_code = _SUCCESS
-                levels.contacts_relaxed = False
-                if self._remove_gravity or self._remove_coriolis:
-                    self._make_command()
-                self._solution_found = True
-                if self._update_cb is not None:
-                    self._update_cb(current_time, dt)
-                return True
+            cstep = step.cascade_step
+            if cstep is not None:  # the levels below in the same call
+                solved = cstep(dt, deadline, most, self._max_iterations, self.name, levels)
+            else:
+                flags, flag, iters, cap, ns = step._step(frame, dt, deadline, most)
+                if flag != 1:  # (b's budget: what a failure's handling reads)
+                    b.deadline, b.max_iterations = deadline, most
+                    fused = step.took(flags, flag, iters, cap, ns)
+                else:  # solved: FusedStep.took's success
+                    b.iterations = iters
+                    problem.return_code = fused = _SUCCESS
+                    problem.built_finite = True
+                    if flags:
+                        cc.plan.box_conflicts += flags & 1
+                if fused is _SUCCESS and cc.cascade is None:  # written out: update's success
+                    self._return_code = _SUCCESS
+                    levels.contacts_relaxed = False
+                    if self._remove_gravity or self._remove_coriolis:
+                        self._make_command()
+                    self._solution_found = True
+                    if self._update_cb is not None:
+                        self._update_cb(current_time, dt)
+                    return True
         elif cc is not None:  # the layout's update included
             fused = cc.update(current_time, dt, deadline, self._max_iterations)
         else:
@@ -275,7 +280,9 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
             for obj in self._updated:
                 obj.update(current_time, dt)
             self._plan.update()
-        if fused is _SUCCESS and cc.cascade is None:  # solved and written out: cc.solve's
+        if solved is not None:
+            problem, code, dropped = solved
+        elif fused is _SUCCESS and cc.cascade is None:  # solved and written out: cc.solve's
             levels.contacts_relaxed = False
             problem, code, dropped = None, fused, False
         elif cc is not None and (cc.steady or fused is not None):  # every level by kernel

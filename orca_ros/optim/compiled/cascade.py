@@ -22,6 +22,9 @@ form (:func:`.lower_level.bands`), each by kernel. A level whose locks are being
 ramp (a locked task ramping in or out: the banded form of ``LowerLevelProblem.lock``) is solved by
 its own Python objects that cycle, as on the reference path. A level that fails is dropped for the
 cycle, said in the debug log, as there.
+
+In the controller's lean cycle, :mod:`.cascade_step` runs these kernels in the same call as the
+first level; :meth:`CompiledCascade.solve` takes over where it stops (``start``, ``resumed``).
 """
 
 from __future__ import annotations
@@ -186,42 +189,55 @@ class CompiledCascade:
         plan, asm = cycle.plan, cycle.assembly
         self.lower = [_Level(plan, asm, levels, i) for i in range(1, len(levels.problems))]
         self._version = None  # of the priorities last read
+        # the Python here ran (a full pass's flags, a solve): cascade_step's modes to write again
+        self.touched = True
 
-    def flags(self) -> None:
-        """After the objects' steps of a full pass: which levels release locks this cycle."""
-        for lev in self.lower:
-            lev.flags()
-
-    def solve(self, deadline, max_iterations, name: str, solved=None):
-        """
-        Solve every level in priority order, as ``PriorityLevels.solve`` returns.
-
-        ``solved``: the first level's problem when it is solved already (the one-call cycle).
-        """
-        if solved is None:
-            solved, code, dropped = self.cycle.solve_first(self.levels, deadline, max_iterations)
-            if code is not _SUCCESS:
-                return solved, code, dropped
+    def read_priorities(self) -> None:
+        """Read each level's band shares and alpha where the priorities changed."""
         if self.priorities.version != self._version:
             for lev in self.lower:
                 lev.read_priorities(self.priorities)
             self._version = self.priorities.version
+
+    def flags(self) -> None:
+        """After the objects' steps of a full pass: which levels release locks this cycle."""
+        self.touched = True
+        for lev in self.lower:
+            lev.flags()
+
+    def solve(self, deadline, max_iterations, name: str, solved=None, start: int = 0,
+              resumed=None):
+        """
+        Solve every level in priority order, as ``PriorityLevels.solve`` returns.
+
+        ``solved``: the first level's problem when it is solved already (the one-call cycle);
+        ``start``: the first level below to solve (the levels before it solved by
+        :mod:`.cascade_step`), ``resumed``: that kernel's outcome for it (its row of ``res``).
+        """
+        self.touched = True
+        if solved is None:
+            solved, code, dropped = self.cycle.solve_first(self.levels, deadline, max_iterations)
+            if code is not _SUCCESS:
+                return solved, code, dropped
+        self.read_priorities()
         late = _NO_DEADLINE if deadline is None else deadline  # (the kernels')
         most = max_iterations or _DEFAULT_CAP
-        for lev in self.lower:
+        lower = self.lower
+        for i in range(start, len(lower)):
+            lev = lower[i]
             p = lev.problem
             b = p.locked_backend
-            if not (lev.releasing or lev.open) and b._set_up and p.temporal_damping == lev.mu_for:
+            if resumed is not None:  # where cascade_step stopped: its outcome for the level
+                code = self._resumed(lev, resumed, deadline, max_iterations)
+                resumed = None
+            elif not (lev.releasing or lev.open) and b._set_up \
+                    and p.temporal_damping == lev.mu_for:
                 # the steady strict level: prepared and solved warm in one call (_by_kernel's
                 # and solve_prepared's, inline: their frames cost ~1 us per level)
                 b.deadline, b.max_iterations = deadline, most
                 flag, iters, cap, ns = lev.framed(lev.frame, _UPDATE_ALL, late, most)
                 if flag == 1:  # (the time model updated by the kernel)
-                    b.iterations = iters
-                    p.band = None
-                    if not p._prev_ok[0] and p.temporal_damping > 0.0:
-                        p._prev_ok[0] = 1
-                    p.return_code = _SUCCESS
+                    self.strict_solved(lev, iters)
                     solved = p
                     continue
                 code = self._settle(lev, b.prepared_failed(flag, iters, cap, ns, L.PREPARED))
@@ -242,6 +258,41 @@ class CompiledCascade:
                 return solved, _SUCCESS, True
             solved = lev.problem
         return solved, _SUCCESS, False
+
+    # ------------------------------------------------------------------ with cascade_step
+    @staticmethod
+    def strict_solved(lev, iters) -> None:
+        """Take a strict level's warm solve by kernel (its x written): SUCCESS."""
+        p = lev.problem
+        p.locked_backend.iterations = iters
+        p.band = None
+        if not p._prev_ok[0] and p.temporal_damping > 0.0:
+            p._prev_ok[0] = 1
+        p.return_code = _SUCCESS
+
+    @staticmethod
+    def generalized_solved(lev, it_ref, it, stage) -> None:
+        """Take a GENERALIZED level's solves by kernel (its x written): SUCCESS."""
+        p = lev.problem
+        lev.reference.iterations = it_ref
+        banded = stage == L.S_BANDED
+        (lev.banded if banded else p.locked_backend).iterations = it
+        p.band = lev.band if banded else None
+        if not p._prev_ok[0] and p.temporal_damping > 0.0:
+            p._prev_ok[0] = 1
+        p.return_code = _SUCCESS
+
+    def _resumed(self, lev, row, deadline, max_iterations):
+        """Return a level's code from the outcome ``row`` cascade_step stopped at (a failure)."""
+        f, it_ref, it, stage, cap, ns = row.tolist()
+        p = lev.problem
+        if lev.open:  # as _by_kernel and _generalized after their kernel call
+            p.band = None
+            code = self._generalized_took(lev, deadline, max_iterations, f, it_ref, it, stage,
+                                          cap, ns)
+            return self._settle(lev, code, fallback=False)
+        b = _budget(p.locked_backend, deadline, max_iterations)
+        return self._settle(lev, b.prepared_failed(f, it, cap, ns, L.PREPARED))
 
     @staticmethod
     def _by_kernel(lev, deadline, max_iterations, banded: bool):
@@ -299,11 +350,18 @@ class CompiledCascade:
         warm (the time model of the reference's back-end takes the call's time and
         iterations); else, from the solve that did not run warm, one solve at a time.
         """
+        ref = _budget(lev.reference, deadline, max_iterations)
+        flag, it_ref, it, stage, cap, ns = lev.framed_gen(
+            lev.frame, _NO_DEADLINE if deadline is None else deadline, ref.max_iterations)
+        return CompiledCascade._generalized_took(lev, deadline, max_iterations, flag, it_ref, it,
+                                                 stage, cap, ns)
+
+    @staticmethod
+    def _generalized_took(lev, deadline, max_iterations, flag, it_ref, it, stage, cap, ns):
+        """Return a GENERALIZED level's code from its kernel's outcome (see _generalized)."""
         p = lev.problem
         ref = _budget(lev.reference, deadline, max_iterations)
         banded, strict = lev.banded, p.locked_backend
-        flag, it_ref, it, stage, cap, ns = lev.framed_gen(
-            lev.frame, _NO_DEADLINE if deadline is None else deadline, ref.max_iterations)
         if stage == L.S_BANDED:
             p.band = lev.band
         if flag > 0:  # the last solve succeeded (the time model updated by the kernel)

@@ -31,6 +31,7 @@ write contact wrench bounds between assembly and solve (a contact changed).
 from __future__ import annotations
 
 from . import clock, cycle_kernel
+from .cascade_step import CascadeStep
 from .step_frame import framed_finish, framed_step, make_frame
 from .terms import cycle_passes
 from ..solvers import ReturnCode
@@ -72,11 +73,13 @@ class FusedStep:
         # controller runs it inline, without CompiledCycle.update's and this object's frames
         # and tests: ~2 us less per cycle on the Panda, where the Python around a cycle costs
         # more than its kernel does
-        self.lean = None
+        self.lean = self.cascade_step = None
         if (not cc.python and cc._centroidal is None and cc.two_passes and not cc.owns_layout
                 and not cc.layout.n_wrenches):
             self.lean = (cc.tables.watch, cc.robot, cc.data, b, st, self.problem, self.frame,
                          cc._derive, cc.robot.model, *cycle_passes())
+            if cc.cascade is not None:  # the levels below in the same call
+                self.cascade_step = CascadeStep.make(self, cc.cascade)
 
     def __call__(self, dt: float, deadline, max_iterations) -> ReturnCode:
         """
@@ -94,6 +97,15 @@ class FusedStep:
         b.max_iterations = most = max_iterations or b.default_max_iterations
         return self.took(*self._step(self.frame, dt, _NONE if deadline is None else deadline,
                                      most))
+
+    def took_solved(self, flags, iters: int) -> None:
+        """Take a warm solve's success (the kernel's: the time model updated)."""
+        self.backend.iterations = iters
+        problem = self.problem
+        problem.return_code = _SUCCESS
+        problem.built_finite = True
+        if flags:
+            self.cycle.plan.box_conflicts += flags & 1
 
     def took(self, flags, flag, iters, cap, ns) -> ReturnCode:
         """Take the kernel's results (see ``__call__``): the solve's code, a failure handled."""
