@@ -253,6 +253,8 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
             cstep = step.cascade_step
             if cstep is not None:  # the levels below in the same call
                 solved = cstep(dt, deadline, most, self._max_iterations, self.name, levels)
+                if solved is True:  # every level solved, written out: update's success
+                    return self._written_out(current_time, dt)
             else:
                 flags, flag, iters, cap, ns = step._step(frame, dt, deadline, most)
                 if flag != 1:  # (b's budget: what a failure's handling reads)
@@ -265,14 +267,8 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
                     if flags:
                         cc.plan.box_conflicts += flags & 1
                 if fused is _SUCCESS and cc.cascade is None:  # written out: update's success
-                    self._return_code = _SUCCESS
                     levels.contacts_relaxed = False
-                    if self._remove_gravity or self._remove_coriolis:
-                        self._make_command()
-                    self._solution_found = True
-                    if self._update_cb is not None:
-                        self._update_cb(current_time, dt)
-                    return True
+                    return self._written_out(current_time, dt)
         elif cc is not None:  # the layout's update included
             fused = cc.update(current_time, dt, deadline, self._max_iterations)
         else:
@@ -307,6 +303,16 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
         if self._update_cb is not None:
             self._update_cb(current_time, dt)
         return self._solution_found
+
+    def _written_out(self, current_time: float, dt: float) -> bool:
+        """Finish a cycle whose kernel solved every level and wrote the solution out: True."""
+        self._return_code = _SUCCESS
+        if self._remove_gravity or self._remove_coriolis:
+            self._make_command()
+        self._solution_found = True
+        if self._update_cb is not None:
+            self._update_cb(current_time, dt)
+        return True
 
     def _write_out(self, x, cc) -> None:
         """Take the solution x: accelerations, torques, command, the contacts' wrenches."""

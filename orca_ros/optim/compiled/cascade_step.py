@@ -36,7 +36,6 @@ from .cycle_kernel import finish, step
 from .daqp_c import UPDATE_ALL
 from .level_frame import framed_generalized, framed_strict
 from .struct_type import StructType
-from ..solvers import ReturnCode
 from ...utils.jit import entry, njit
 
 #: a level's mode: Python's this cycle, strict warm, GENERALIZED warm
@@ -45,9 +44,6 @@ PYTHON, STRICT, GENERALIZED = range(3)
 #: (the first level's row: its flag, iterations, cap, nanoseconds, run's flags)
 FLAG, IT_REF, IT, STAGE, CAP, NS = range(6)
 _NOTHING = L.PREPARED - L.NOTHING_TO_DO
-_SUCCESS = ReturnCode.SUCCESS
-#: CompiledCycle.solve's return when every level solved in the kernel (written out)
-_ALL_SOLVED = (None, _SUCCESS, False)
 
 #: the one-call cycle's frame, the levels' frames (a tuple), their modes, whether each is damped
 #: in time (its solution kept for the next cycle's damping), the outcomes
@@ -76,16 +72,17 @@ def cascade_step(cf, dt, deadline, most):
     """
     Run the first level (:func:`.cycle_kernel.step`), then the levels below while they run warm.
 
-    Returns (run's flags, k): k levels solved (0: the first failed; len(levels) + 1: all, the
-    last solution written out). ``res`` holds the outcome of each level run, the one that
-    stopped it included (its FLAG not a success; PYTHON mode: not run, FLAG 0).
+    Returns (run's flags, k, the first level's iterations): k levels solved (0: the first
+    failed; len(levels) + 1: all, the last solution written out). ``res`` holds the outcome
+    of each level run, the one that stopped it included (its FLAG not a success; PYTHON
+    mode: not run, FLAG 0).
     """
     fr, res, mode, levels, damped = cf.fr, cf.res, cf.mode, cf.levels, cf.damped
     flags, flag, iters, cap, ns = step(fr.ws, fr.s, dt, deadline, most, fr.least, fr.timing,
                                        fr.clock, 0, fr.x_out, fr.acc_out, fr.tau, fr.tau_cmd)
     res[0, 0], res[0, 1], res[0, 2], res[0, 3] = flag, iters, cap, ns
     if flag != 1:
-        return flags, 0
+        return flags, 0, iters
     x = fr.s.x
     for i in range(len(levels)):
         lf, row = levels[i], i + 1
@@ -102,19 +99,19 @@ def cascade_step(cf, dt, deadline, most):
             res[row, FLAG], res[row, IT_REF], res[row, IT] = f, ir, it
             res[row, STAGE], res[row, CAP], res[row, NS] = stage, cp, n
         else:
-            return flags, row
+            return flags, row, iters
         s = lf.s
         if f == _NOTHING:  # nothing to optimise: the solution above stands (the cascade's)
             for a in range(x.shape[0]):
                 s.x[a] = x[a]
             s.prev_ok[0] = 0
         elif not ok:
-            return flags, row
+            return flags, row, iters
         elif damped[i]:  # (damped towards it next cycle)
             s.prev_ok[0] = 1
         x = s.x
     finish(fr.ws, x, fr.x_out, fr.acc_out, fr.tau, fr.tau_cmd)
-    return flags, len(levels) + 1
+    return flags, len(levels) + 1, iters
 
 
 class CascadeStep:
@@ -130,6 +127,7 @@ class CascadeStep:
 
     def __init__(self, fused, cascade):
         self.fused, self.cascade = fused, cascade
+        self.backend, self.plan = fused.backend, fused.cycle.plan
         n = len(cascade.lower)
         self.n = n
         self.mode = np.zeros(n, dtype=np.int64)
@@ -141,10 +139,9 @@ class CascadeStep:
         self.bind()
 
     def bind(self) -> None:
-        """Compile (or load) the kernel for the frames' types (again for a new fused frame)."""
+        """Compile (or load) the kernel for the frames' types."""
         levels = tuple(lev.frame for lev in self.cascade.lower)
-        self._for = self.fused.frame
-        self.frame = _construct(self._for, levels, self.mode, self.damped, self.res)
+        self.frame = _construct(self.fused.frame, levels, self.mode, self.damped, self.res)
         self.run = entry(cascade_step, self.frame, 1e-3, 1.0, 1)
 
     def __call__(self, dt: float, deadline: float, most: int, max_iterations, name: str,
@@ -152,39 +149,40 @@ class CascadeStep:
         """
         Run the cycle's kernel, then what it left, as ``CompiledCycle.solve`` returns.
 
-        (None, SUCCESS, False) when every level solved in the kernel: the solution written out.
-        In a steady cycle (the modes as the last, every level solved by the kernel then), the
-        levels' Python states are left as that cycle wrote them (SUCCESS, their band): only
-        the kernel's arrays change (their solutions, iteration counts in ``res``).
+        True when every level solved in the kernel: the solution written out (the
+        controller's success, as the one-call cycle's of one level). In a steady cycle (the
+        modes as the last, every level solved by the kernel then), the levels' Python states
+        are left as that cycle wrote them (SUCCESS, their band): only the kernel's arrays
+        change (their solutions, iteration counts in ``res``).
         """
-        fused, casc = self.fused, self.cascade
-        if fused.frame is not self._for:
-            self.bind()
-        mode, res = self.mode, self.res
+        casc = self.cascade
         versions = (casc.priorities.version, casc.levels.damping_version)
         steady = not casc.touched and versions == self._for_versions
         if not steady:  # (the levels' states in full this cycle)
             self._write_modes()
             self._for_versions = versions
             casc.touched = False
-        flags, k = self.run(self.frame, dt, deadline, most)
-        cycle = fused.cycle
+        flags, k, iters = self.run(self.frame, dt, deadline, most)
         if k > self.n and steady:  # as the last cycle: every level SUCCESS, its x written
-            fused.took_solved(flags, int(res[0, 1]))
-            levels.contacts_relaxed = False
-            return _ALL_SOLVED
+            self.backend.iterations = iters
+            if flags:
+                self.plan.box_conflicts += flags & 1
+            return True
+        fused = self.fused
         if k == 0:  # the first level did not solve warm: its failure handled as the cycle's
+            casc.touched = True  # (the levels' states: this cycle's, not the last's)
             fused.backend.deadline, fused.backend.max_iterations = deadline, most
-            f, it, cap, ns = res[0, :4].tolist()
+            f, it, cap, ns = self.res[0, :4].tolist()
             first = fused.took(flags, f, it, cap, ns)
-            return cycle.solve(levels, deadline, max_iterations, name, first)
-        fused.took_solved(flags, int(res[0, 1]))
+            return fused.cycle.solve(levels, deadline, max_iterations, name, first)
+        fused.took_solved(flags, iters)
         levels.contacts_relaxed = False
         solved = self._took(k - 1)
         if k > self.n:
-            return _ALL_SOLVED
-        ran = mode[k - 1] != PYTHON  # (else not run: the cascade's as any cycle)
-        return casc.solve(deadline, max_iterations, name, solved, k - 1, res[k] if ran else None)
+            return True
+        ran = self.mode[k - 1] != PYTHON  # (else not run: the cascade's as any cycle)
+        return casc.solve(deadline, max_iterations, name, solved, k - 1,
+                          self.res[k] if ran else None)
 
     def _write_modes(self) -> None:
         """Each level's mode this cycle (as the cascade's solve would pick its path)."""
