@@ -227,7 +227,8 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
         True when a solution was found.
         """
         self._solution_found = False
-        deadline = _now() + (self._time_budget if self._time_budget is not None else dt)
+        budget = self._time_budget
+        deadline = _now() + (dt if budget is None else budget)
         if self._dirty:  # configuration: solvers set up, their solves not time-bounded
             self._configure()
             deadline = None
@@ -268,7 +269,13 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
                         cc.plan.box_conflicts += flags & 1
                 if fused is _SUCCESS and cc.cascade is None:  # written out: update's success
                     levels.contacts_relaxed = False
-                    return self._written_out(current_time, dt)
+                    self._return_code = _SUCCESS  # (_written_out's, inline: every cycle)
+                    if self._remove_gravity or self._remove_coriolis:
+                        self._make_command()
+                    self._solution_found = True
+                    if self._update_cb is not None:
+                        self._update_cb(current_time, dt)
+                    return True
         elif cc is not None:  # the layout's update included
             fused = cc.update(current_time, dt, deadline, self._max_iterations)
         else:
