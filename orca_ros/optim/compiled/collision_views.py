@@ -15,13 +15,10 @@
 Views on Pinocchio's geometry placements and coal's distance results, as the kernels read them.
 
 Both live in C++ objects (GeometryData's ``oMg``, its ``distanceResults``); the collision kernels
-(:mod:`.collision`) read and write them over their storage. Each view is checked before it is
-used; where the layout is not the one read here (another Pinocchio, another coal) the functions
-return None and the constraint keeps its Python update. The first view of each kind in a process
-is checked value by value and address by address for every element (~1.8 ms on the lwr with its
-63 pairs): the layout is the libraries', which do not change under a running process. Later ones
-(an obstacle added or removed makes a new GeometryData, in the control cycle) are checked address
-by address for every element and value by value for the first and the last (~0.2 ms).
+(:mod:`.collision`) read and write them over their storage. Each view is checked, value by value
+and address by address for every element, before it is used; where the layout is not the one read
+here (another Pinocchio, another coal) the functions return None and the constraint keeps its
+Python update.
 """
 
 from __future__ import annotations
@@ -34,15 +31,6 @@ import pinocchio as pin
 from .fill import _view
 
 RES = 10  # a result as read: distance, normal (3), nearest point 1 (3), nearest point 2 (3)
-#: the kinds of view whose layout this process checked in full on one view
-_CHECKED = set()
-
-
-def _checked_values(kind: str, count: int):
-    """Return the elements whose values a check of a ``kind`` view compares (all, at first)."""
-    if kind in _CHECKED:
-        return {0, count - 1}
-    return range(count)
 
 
 def placement_view(gd, count: int):
@@ -50,17 +38,13 @@ def placement_view(gd, count: int):
     if count == 0:
         return None
     view = _view(gd.oMg[0].rotation, count, 12)
-    values = _checked_values('placements', count)
-    start, stride = view.__array_interface__['data'][0], view.strides[0]
     for g in range(count):  # (equal NaNs too: a new GeometryData's placements are not set yet)
         M = gd.oMg[g]
-        if M.rotation.__array_interface__['data'][0] != start + g * stride:
+        if not (np.array_equal(view[g, :9], M.rotation.reshape(-1, order='F'), equal_nan=True)
+                and np.array_equal(view[g, 9:], M.translation, equal_nan=True)
+                and M.rotation.__array_interface__['data'][0]
+                == view[g].__array_interface__['data'][0]):
             return None
-        if g in values and not (
-                np.array_equal(view[g, :9], M.rotation.reshape(-1, order='F'), equal_nan=True)
-                and np.array_equal(view[g, 9:], M.translation, equal_nan=True)):
-            return None
-    _CHECKED.add('placements')
     return view
 
 
@@ -89,14 +73,11 @@ def result_view(gm, gd):
     buf = (ctypes.c_double * ((n - 1) * width + RES)).from_address(start)
     flat = np.ctypeslib.as_array(buf)
     view = np.lib.stride_tricks.as_strided(flat, shape=(n, RES), strides=(stride, 8))
-    values = _checked_values('results', n)
     for k in range(n):  # (equal NaNs too: bodies placed into each other may leave some)
         r = results[k]
-        if r.normal.__array_interface__['data'][0] != start + k * stride + 8:
+        got = np.concatenate(([r.min_distance], r.normal, r.getNearestPoint1(),
+                              r.getNearestPoint2()))
+        if not (np.array_equal(view[k], got, equal_nan=True)
+                and r.normal.__array_interface__['data'][0] == start + k * stride + 8):
             return None
-        if k in values and not np.array_equal(
-                view[k], np.concatenate(([r.min_distance], r.normal, r.getNearestPoint1(),
-                                         r.getNearestPoint2())), equal_nan=True):
-            return None
-    _CHECKED.add('results')
     return view
