@@ -15,13 +15,13 @@
 The levels below the first by kernel: ``PriorityLevels.solve`` without its Python layers.
 
 Made by the compiled cycle when its first level is solved by kernel and DAQP solves the levels
-below (MULTI_LEVEL_WEIGHTED and GENERALIZED): per level, one kernel writes its problem
-(:mod:`.lower_level`) and, strict, solves it by DAQP's C solve (:mod:`.direct_daqp`) in the same
-call. A GENERALIZED level with a priority below 1 solves its weighted reference, then its banded
-form (:func:`.lower_level.bands`), each by kernel. A level whose locks are being released by a
-ramp (a locked task ramping in or out: the banded form of ``LowerLevelProblem.lock``) is solved by
-its own Python objects that cycle, as on the reference path. A level that fails is dropped for the
-cycle, said in the debug log, as there.
+below (MULTI_LEVEL_WEIGHTED and GENERALIZED): per level (:mod:`.cascade_level`), one kernel
+writes its problem (:mod:`.lower_level`) and, strict, solves it by DAQP's C solve
+(:mod:`.direct_daqp`) in the same call. A GENERALIZED level with a priority below 1 solves its
+weighted reference, then its banded form (:func:`.lower_level.bands`), each by kernel. A level
+whose locks are being released by a ramp (a locked task ramping in or out: the banded form of
+``LowerLevelProblem.lock``) is solved by its own Python objects that cycle, as on the reference
+path. A level that fails is dropped for the cycle, said in the debug log, as there.
 
 In the controller's lean cycle, :mod:`.cascade_step` runs these kernels in the same call as the
 first level; :meth:`CompiledCascade.solve` takes over where it stops (``start``, ``resumed``).
@@ -34,10 +34,8 @@ import math
 import numpy as np
 
 from . import clock, daqp_c, direct_daqp, lower_level as L
-from .level_frame import framed_generalized, framed_strict, make_level_frame
-from ..generalized import band_share
+from .cascade_level import Level
 from ..solvers import ReturnCode
-from ...utils.jit import entry
 from ...utils.logger import get_logger
 
 _LOG = get_logger('optim')
@@ -68,14 +66,6 @@ def unlowered_reason(levels) -> str | None:
     return None
 
 
-def _direct(nx, n_eq, n_in, scale, arrays, x, base=None):
-    """Make a DAQP back-end by kernel on (H, g, M, lo, hi) writing x (base + its step)."""
-    b = direct_daqp.DirectDAQPBackend(nx, n_eq, n_in, scale=scale)
-    b.write_into(x, base)
-    b.compile_for(*arrays)
-    return b
-
-
 def _budget(back, deadline, max_iterations):
     """Give a back-end this cycle's deadline and iteration cap; return it."""
     back.deadline = deadline
@@ -83,111 +73,11 @@ def _budget(back, deadline, max_iterations):
     return back
 
 
-class _Level:
-    """One level below the first: its problem, its kernel state, its DAQP back-ends by kernel."""
-
-    def __init__(self, plan, assembly, levels, index):
-        self.index = index
-        self.problem = p = levels.problems[index]
-        self.tasks = levels.level_tasks[index]
-        reference = levels.references[index]
-        lay = plan.layout
-        nx, scale = lay.nx, lay.variable_scale
-        dense = {id(t): i for i, t in enumerate(plan.tasks)}
-        diag = {id(t): i for i, t in enumerate(plan.diagonal_tasks)}
-        locks = []
-        for t in p.locked:
-            if id(t) in dense:
-                k = dense[id(t)]
-                locks.append([0, plan.task_rows[k].start, t.rows(), 0, k])
-            else:
-                k = diag[id(t)]
-                locks.append([1, plan.diagonal_rows[k].start, t.rows(),
-                              t.diagonal_columns.start, k])
-        own_dg = list(plan.diagonal[index])
-        # the cost: the level's rows (strict), or every level's down to it (GENERALIZED)
-        rows, cost_dg = plan.level_rows[index], own_dg
-        if reference is not None:
-            rows = plan.prefix_rows[index]
-            cost_dg = [t for d in plan.diagonal[:index] for t in d] + own_dg
-        i64 = np.int64
-        # GENERALIZED: the levels above, whose tasks' weights share in the damping
-        upper = ([t for j in range(index) for t in levels.level_tasks[j]]
-                 if reference is not None else [])
-        nl, nc, ni = p.lock_rows(), p.n_eq_constraints, p.n_in
-        # the damping's factors (by kernel), and the damping they were written for (nan: none;
-        # read_priorities, which changes alpha, resets it)
-        self.mu, self.mu_for = np.zeros(2), math.nan
-        self.Hd, self.g2 = np.zeros((nx, nx)), np.zeros(nx)
-        self.keep, self.ref_x, self.band = np.zeros(nl), np.zeros(nx), np.zeros(nl)
-        self.Mb = np.zeros((nc + ni + nl, nx))
-        self.lob, self.hib = np.zeros(nx + nc + ni + nl), np.zeros(nx + nc + ni + nl)
-        self.state = L.LevelState(
-            plan.E, plan.f, plan.w, plan.sel, assembly.ew, assembly.nw, plan.diag_sel,
-            plan.diag_ws, plan.diag_wsf, assembly.dg_ew, assembly.dg_nw, assembly.dg_tab, plan.M,
-            plan.lo, plan.hi,
-            np.array([0] + [diag[id(t)] for t in cost_dg], dtype=i64),
-            np.array([dense[id(t)] for t in self.tasks if id(t) in dense], dtype=i64),
-            np.array([diag[id(t)] for t in own_dg], dtype=i64),
-            np.array(locks, dtype=i64).reshape(-1, 5), rows.start, rows.stop,
-            np.array([dense[id(t)] for t in upper if id(t) in dense], dtype=i64),
-            np.array([diag[id(t)] for t in upper if id(t) in diag], dtype=i64),
-            p.H, p.g, p._M, p.b, p._lo, p._hi, levels.problems[index - 1].x, p.x_ref, p.x,
-            p._prev_ok, p._damp_w, self.mu, self.Hd, self.g2, nc, ni, nx,
-            self.keep, self.ref_x, self.band, self.Mb, self.lob, self.hib,
-        )
-        p.locked_backend = b = _direct(
-            nx, p.n_eq, ni, scale, (self.Hd, self.g2, p._M, p._lo, p._hi), p.x, p.x_ref
-        )
-        # compiled (or loaded) here, not in a cycle: prepare, then solve, in one call when warm
-        self.fused = entry(L.prepare_and_solve, self.state, b._state, -1, 1.0, 0, 0, b.timing,
-                           b.clock)
-        self.fused(self.state, b._state, -1, 1.0, 0, 0, b.timing, b.clock)
-        self.reference = self.banded = None
-        if reference is not None:  # its weighted reference (the level's cost, no locks); banded
-            self.reference = _direct(
-                nx, plan.n_eq, ni, scale, (p.H, p.g, plan.M, plan.lo, plan.hi), self.ref_x
-            )
-            self.banded = _direct(
-                nx, nc, ni + nl, scale, (self.Hd, self.g2, self.Mb, self.lob, self.hib), p.x,
-                p.x_ref,
-            )
-            self.bands = entry(L.bands, self.state)
-            self.bands(self.state)
-        # the warm solves' kernels with their arguments in one structure (level_frame.py; the
-        # back-ends are the level's for good: made here, never bound again)
-        self.frame = make_level_frame(self.state, b, self.reference, self.banded)
-        self.framed = entry(framed_strict, self.frame, 0, 1.0, 0)
-        if reference is not None:
-            self.framed_gen = entry(framed_generalized, self.frame, 1.0, 0)
-        self.releasing = False  # a locked task is ramping: the level is solved in Python
-        self.open = False  # some priority below 1: bands from the reference
-        self.alpha = 1.0  # the level's priority (GENERALIZED)
-
-    def flags(self) -> None:
-        self.releasing = any(
-            0.0 < t._ramp_factor < 1.0 and t.get_effective_weight() > 0.0
-            for t in self.problem.locked
-        )
-
-    def read_priorities(self, priorities) -> None:
-        """Band share per lock row (GENERALIZED; 0, strict, otherwise) and the level's alpha."""
-        k, self.alpha = 0, 1.0 if not self.problem.locked else 0.0
-        for t in self.problem.locked:
-            m = t.rows()
-            alpha = priorities.level_priority(t, self.tasks) if self.banded else 1.0
-            self.keep[k: k + m] = band_share(alpha)
-            self.alpha = max(self.alpha, alpha)  # the damping's share (PriorityLevels')
-            k += m
-        self.open = bool(np.any(self.keep > 0.0))
-        self.mu_for = math.nan  # the damping's factors written again
-
-
 class CompiledCascade:
     def __init__(self, cycle, levels, priorities):
         self.cycle, self.levels, self.priorities = cycle, levels, priorities
         plan, asm = cycle.plan, cycle.assembly
-        self.lower = [_Level(plan, asm, levels, i) for i in range(1, len(levels.problems))]
+        self.lower = [Level(plan, asm, levels, i) for i in range(1, len(levels.problems))]
         self._version = None  # of the priorities last read
         # the Python here ran (a full pass's flags, a solve): cascade_step's modes to write again
         self.touched = True

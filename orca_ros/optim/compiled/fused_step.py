@@ -111,10 +111,7 @@ class FusedStep:
         """Take the kernel's results (see ``__call__``): the solve's code, a failure handled."""
         b, problem = self.backend, self.problem
         if flag == 1:  # the time model updated, the solution written out
-            b.iterations = iters
-            problem.return_code = _SUCCESS
-            problem.built_finite = True
-            self.cycle.plan.box_conflicts += flags & 1
+            self.took_solved(flags, iters)
             return _SUCCESS
         self.cycle.plan.box_conflicts += flags & 1
         problem.built_finite = flag != cycle_kernel.NOT_BUILT
