@@ -18,8 +18,9 @@ Two compiled controllers in one closed loop on the lwr's three-level stack: one 
 with cascade_step, the other with it switched off (the one-call first level, then the cascade's
 call per level, as before it). Through what makes the kernel stop and the cascade take over
 (a level that fails within an iteration cap of 2, for the first 0.4 s, then is dropped), and
-through what changes the levels' modes between cycles (priorities, the lower levels' damping, a
-task ramped out and in): the same torques every cycle, the same levels dropped.
+through what changes the levels' modes between cycles (priorities, also in a run of steady
+cycles; the lower levels' damping, a task ramped out and in): the same torques every cycle, the
+same levels dropped.
 """
 
 import numpy as np
@@ -78,6 +79,8 @@ def test_one_call_for_every_level_is_the_call_per_level(strategy):
                 c.set_priority('elbow', 'posture', 0.8)
             if k == 500:
                 c.set_lower_level_damping(2.0)
+            if k == 600 and strategy == 'generalized':  # in steady cycles (every level warm)
+                c.set_priority('ee', 'elbow', 0.3)
             if k == 700:
                 c.get_task('elbow').deactivate()
             if k == 900:

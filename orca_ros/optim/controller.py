@@ -36,6 +36,7 @@ from .priority_levels import PriorityLevels, tasks_by_level
 from .priority_settings import PrioritySettingsMixin
 from .problem_layout import ProblemLayout
 from .resolution_strategy import ResolutionStrategy
+from .solver_budget import SolverBudgetMixin
 from .solvers import QPSolver, resolve_solver, ReturnCode
 from .task_registry import TaskRegistryMixin
 from .weighted_problem import WeightedProblem
@@ -51,7 +52,7 @@ _SUCCESS = ReturnCode.SUCCESS
 _now = time.perf_counter  # (the deadline's clock: the solvers', the kernels')
 
 
-class Controller(TaskRegistryMixin, PrioritySettingsMixin):
+class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin):
     #: time budget of a new controller's cycles [s]; None: one control period (the dt of each
     #: update). Offline users (tests judging physics, batch simulations) may raise it for all.
     default_time_budget: float | None = None
@@ -124,32 +125,6 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
 
     def remove_coriolis_torques_from_solution(self, do_remove: bool) -> None:
         self._remove_coriolis = bool(do_remove)
-
-    def set_solver_budget(
-        self, time_budget: float | None = None, max_iterations: int | None = None
-    ) -> None:
-        """
-        Bound every cycle's solves.
-
-        ``time_budget`` seconds for the whole cycle (None: one control period, the dt given to
-        update) and at most ``max_iterations`` solver iterations per solve (None: the solver's
-        default).
-
-        A problem the solvers cannot solve within the budget fails with its ReturnCode.
-        """
-        if time_budget is not None and not (np.isfinite(time_budget) and time_budget > 0.0):
-            raise ValueError(
-                f"controller '{self.name}': time budget must be > 0 s, got {time_budget}"
-            )
-        if max_iterations is not None and int(max_iterations) < 1:
-            raise ValueError(
-                f"controller '{self.name}': max_iterations must be >= 1, got {max_iterations}"
-            )
-        self._time_budget = None if time_budget is None else float(time_budget)
-        self._max_iterations = None if max_iterations is None else int(max_iterations)
-
-    def get_solver_budget(self) -> tuple[float | None, int | None]:
-        return self._time_budget, self._max_iterations
 
     def set_update_callback(self, cb: Callable[[float, float], None]) -> None:
         """Set the callback called at the end of every update(t, dt)."""
@@ -252,8 +227,18 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin):
                 cc._pass_stamp = r._stamp
             most = self._max_iterations or b.default_max_iterations
             cstep = step.cascade_step
-            if cstep is not None:  # the levels below in the same call
-                solved = cstep(dt, deadline, most, self._max_iterations, self.name, levels)
+            if cstep is not None:  # the levels below in the same call (CascadeStep, inline)
+                steady = not cstep.changed.touched
+                if not steady:
+                    cstep.write_modes()
+                flags, k, iters = cstep.run(cstep.frame, dt, deadline, most)
+                if k > cstep.n and steady:  # every level solved as the last cycle, written out
+                    b.iterations = iters
+                    if flags:
+                        cc.plan.box_conflicts += flags & 1
+                    return self._written_out(current_time, dt)
+                solved = cstep.took(flags, k, iters, deadline, most, self._max_iterations,
+                                    self.name, levels)
                 if solved is True:  # every level solved, written out: update's success
                     return self._written_out(current_time, dt)
             else:

@@ -71,13 +71,14 @@ class GeneralizedPriorities:
     def __init__(self):
         self._alpha: dict[tuple[str, str], float] = {}
         self.version = 0  # counts the changes (the compiled cycle re-reads them on a change)
+        self.watch = None  # a Touched told of every change (the compiled cascade's)
 
     def set(self, high: str, low: str, value: float) -> None:  # noqa: A003 (ORCA API name)
         value = float(value)
         if not (np.isfinite(value) and 0.0 <= value <= 1.0):
             raise ValueError(f"priority of '{high}' over '{low}' must be in [0, 1], got {value}")
         self._alpha[(high, low)] = value
-        self.version += 1
+        self._changed()
 
     def get(self, high: str, low: str) -> float:
         return self._alpha.get((high, low), 1.0)
@@ -85,7 +86,12 @@ class GeneralizedPriorities:
     def forget(self, name: str) -> None:
         for key in [k for k in self._alpha if name in k]:
             del self._alpha[key]
+        self._changed()
+
+    def _changed(self) -> None:
         self.version += 1
+        if self.watch is not None:
+            self.watch.touched = True
 
     def items(self):
         return self._alpha.items()

@@ -79,14 +79,15 @@ class PriorityLevels:
                 if generalized
                 else None
             )
-        self.damping_version = 0  # counts the changes (the compiled cycle's kernels read them)
+        self.watch = None  # a Touched told of every change of the damping (the compiled cascade's)
         self.set_temporal_damping(lower_damping)
         self.elastic = ElasticContacts(plan, solver)
         self.contacts_relaxed = False  # the last cycle's level 0 was solved with elastic contacts
 
     def set_temporal_damping(self, mu: float) -> None:
         """Damp every level below the first in time (LowerLevelProblem.set_temporal_damping)."""
-        self.damping_version += 1
+        if self.watch is not None:
+            self.watch.touched = True
         for p in self.problems[1:]:
             p.set_temporal_damping(mu)
 

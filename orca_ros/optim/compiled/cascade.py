@@ -36,6 +36,7 @@ import numpy as np
 from . import clock, daqp_c, direct_daqp, lower_level as L
 from .cascade_level import Level
 from ..solvers import ReturnCode
+from ...common.watched import Touched
 from ...utils.logger import get_logger
 
 _LOG = get_logger('optim')
@@ -79,8 +80,10 @@ class CompiledCascade:
         plan, asm = cycle.plan, cycle.assembly
         self.lower = [Level(plan, asm, levels, i) for i in range(1, len(levels.problems))]
         self._version = None  # of the priorities last read
-        # the Python here ran (a full pass's flags, a solve): cascade_step's modes to write again
-        self.touched = True
+        # set where the Python here ran (a full pass's flags, a solve) and by any change of the
+        # priorities or the lower levels' damping: cascade_step's modes to write again
+        self.changed = Touched()
+        priorities.watch = levels.watch = self.changed
 
     def read_priorities(self) -> None:
         """Read each level's band shares and alpha where the priorities changed."""
@@ -91,7 +94,7 @@ class CompiledCascade:
 
     def flags(self) -> None:
         """After the objects' steps of a full pass: which levels release locks this cycle."""
-        self.touched = True
+        self.changed.touched = True
         for lev in self.lower:
             lev.flags()
 
@@ -104,7 +107,7 @@ class CompiledCascade:
         ``start``: the first level below to solve (the levels before it solved by
         :mod:`.cascade_step`), ``resumed``: that kernel's outcome for it (its row of ``res``).
         """
-        self.touched = True
+        self.changed.touched = True
         if solved is None:
             solved, code, dropped = self.cycle.solve_first(self.levels, deadline, max_iterations)
             if code is not _SUCCESS:

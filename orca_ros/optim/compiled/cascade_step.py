@@ -133,9 +133,9 @@ class CascadeStep:
         self.mode = np.zeros(n, dtype=np.int64)
         self.damped = np.zeros(n, dtype=np.int64)
         self.res = np.zeros((n + 1, 6), dtype=np.int64)
-        # what the modes were written for: the priorities' and the damping's versions (the
-        # cascade's Python ran since: written again, the levels' states taken in full)
-        self._for_versions = None
+        # set when the modes are to be written again: the cascade's Python ran since (the
+        # levels' states taken in full), the priorities or the lower levels' damping changed
+        self.changed = cascade.changed
         self.bind()
 
     def bind(self) -> None:
@@ -144,33 +144,42 @@ class CascadeStep:
         self.frame = _construct(self.fused.frame, levels, self.mode, self.damped, self.res)
         self.run = entry(cascade_step, self.frame, 1e-3, 1.0, 1)
 
-    def __call__(self, dt: float, deadline: float, most: int, max_iterations, name: str,
-                 levels):
+    def write_modes(self) -> None:
         """
-        Run the cycle's kernel, then what it left, as ``CompiledCycle.solve`` returns.
+        Each level's mode this cycle (as the cascade's solve would pick its path).
 
-        True when every level solved in the kernel: the solution written out (the
-        controller's success, as the one-call cycle's of one level). In a steady cycle (the
-        modes as the last, every level solved by the kernel then), the levels' Python states
-        are left as that cycle wrote them (SUCCESS, their band): only the kernel's arrays
-        change (their solutions, iteration counts in ``res``).
+        A cycle runs (the controller's lean cycle, inline): where :attr:`changed` is set, this
+        (which clears it); then :attr:`run`. A steady cycle (not changed, every level solved by
+        the kernel: ``k > n``) is the controller's success, as the one-call cycle's of one
+        level: the levels' Python states are left as the last full cycle wrote them (SUCCESS,
+        their band), only the kernel's arrays change (their solutions, iteration counts in
+        ``res``). Any other cycle goes on with :meth:`took`.
         """
-        casc = self.cascade
-        versions = (casc.priorities.version, casc.levels.damping_version)
-        steady = not casc.touched and versions == self._for_versions
-        if not steady:  # (the levels' states in full this cycle)
-            self._write_modes()
-            self._for_versions = versions
-            casc.touched = False
-        flags, k, iters = self.run(self.frame, dt, deadline, most)
-        if k > self.n and steady:  # as the last cycle: every level SUCCESS, its x written
-            self.backend.iterations = iters
-            if flags:
-                self.plan.box_conflicts += flags & 1
-            return True
-        fused = self.fused
+        casc, mode, damped = self.cascade, self.mode, self.damped
+        self.changed.touched = False
+        casc.read_priorities()
+        for i, lev in enumerate(casc.lower):
+            p = lev.problem
+            if lev.releasing or p.temporal_damping != lev.mu_for:
+                m = PYTHON
+            elif lev.open:
+                m = GENERALIZED
+            else:
+                m = STRICT if p.locked_backend._set_up else PYTHON
+            mode[i] = m
+            damped[i] = p.temporal_damping > 0.0
+
+    def took(self, flags, k: int, iters: int, deadline, most: int, max_iterations, name: str,
+             levels):
+        """
+        Take the kernel's outcome (``run``'s), then what it left, as ``CompiledCycle.solve``.
+
+        True when every level solved in the kernel: the solution written out (the controller's
+        success). Not for a steady cycle's success (see :meth:`write_modes`).
+        """
+        casc, fused = self.cascade, self.fused
         if k == 0:  # the first level did not solve warm: its failure handled as the cycle's
-            casc.touched = True  # (the levels' states: this cycle's, not the last's)
+            casc.changed.touched = True  # (the levels' states: this cycle's, not the last's)
             fused.backend.deadline, fused.backend.max_iterations = deadline, most
             f, it, cap, ns = self.res[0, :4].tolist()
             first = fused.took(flags, f, it, cap, ns)
@@ -183,21 +192,6 @@ class CascadeStep:
         ran = self.mode[k - 1] != PYTHON  # (else not run: the cascade's as any cycle)
         return casc.solve(deadline, max_iterations, name, solved, k - 1,
                           self.res[k] if ran else None)
-
-    def _write_modes(self) -> None:
-        """Each level's mode this cycle (as the cascade's solve would pick its path)."""
-        casc, mode, damped = self.cascade, self.mode, self.damped
-        casc.read_priorities()
-        for i, lev in enumerate(casc.lower):
-            p = lev.problem
-            if lev.releasing or p.temporal_damping != lev.mu_for:
-                m = PYTHON
-            elif lev.open:
-                m = GENERALIZED
-            else:
-                m = STRICT if p.locked_backend._set_up else PYTHON
-            mode[i] = m
-            damped[i] = p.temporal_damping > 0.0
 
     def _took(self, n: int):
         """Take the kernel's outcome for the first ``n`` levels below (solved); the last one."""
