@@ -85,17 +85,25 @@ class ControllerDiagnostics:
             'period_max_ms': per.max() * 1e3,
             'latency_median_ms': latency_median * 1e3,
             'latency_p99_ms': latency_p99 * 1e3,
-            'cycles': sol.total,
             'jitter_p99_ms': jitter_p99,
         }
 
     def _publish_diagnostics(self):
-        """Publish the report (a job: the numbers in slices, see :meth:`loop_statistics`)."""
+        """
+        Publish the report (a job: the numbers in slices, see :meth:`loop_statistics`).
+
+        Its counters and its stamp are of one instant, the job's start: cycles run in the slices
+        that follow are the next report's (a report whose cycle count was read later than its
+        failure count told of more failures than cycles between two reports).
+        """
         cycles, fails, dropped = (
             self.loop_periods.total,
             self.qp_failures,
             self.controller.dropped_levels,
         )
+        solved, sent, relaxed = (
+            self.solve_times.total, self.commands_sent, self.contacts_relaxed_cycles)
+        stamp = self.get_clock().now().to_msg()
         c0, f0, d0 = self._diag_marks
         self._diag_marks = (cycles, fails, dropped)
         now = time.monotonic()
@@ -149,10 +157,10 @@ class ControllerDiagnostics:
             'loop_jitter_p99_ms': f"{stats['jitter_p99_ms']:.3f}",
             'state_to_command_median_ms': f"{stats['latency_median_ms']:.3f}",
             'state_to_command_p99_ms': f"{stats['latency_p99_ms']:.3f}",
-            'cycles': str(stats['cycles']),
+            'cycles': str(solved),
             'qp_failures': str(fails),
-            'commands_sent': str(self.commands_sent),
-            'contacts_relaxed_cycles': str(self.contacts_relaxed_cycles),
+            'commands_sent': str(sent),
+            'contacts_relaxed_cycles': str(relaxed),
             'dropped_levels': str(dropped),
             'rss_kb': str(_rss_kb()),
             'solver_budget': self._budget_text(),
@@ -165,7 +173,7 @@ class ControllerDiagnostics:
         }
         st.values = [KeyValue(key=k, value=v) for k, v in values.items()]
         arr = DiagnosticArray()
-        arr.header.stamp = self.get_clock().now().to_msg()
+        arr.header.stamp = stamp
         arr.status = [st]
         self.pub_diag.publish(arr)
 
