@@ -127,7 +127,6 @@ class CascadeStep:
 
     def __init__(self, fused, cascade):
         self.fused, self.cascade = fused, cascade
-        self.backend, self.plan = fused.backend, fused.cycle.plan
         n = len(cascade.lower)
         self.n = n
         self.mode = np.zeros(n, dtype=np.int64)
