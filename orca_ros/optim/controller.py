@@ -36,6 +36,7 @@ from .priority_levels import PriorityLevels, tasks_by_level
 from .priority_settings import PrioritySettingsMixin
 from .problem_layout import ProblemLayout
 from .resolution_strategy import ResolutionStrategy
+from .solution_output import SolutionOutputMixin
 from .solver_budget import SolverBudgetMixin
 from .solvers import QPSolver, resolve_solver, ReturnCode
 from .task_registry import TaskRegistryMixin
@@ -52,7 +53,8 @@ _SUCCESS = ReturnCode.SUCCESS
 _now = time.perf_counter  # (the deadline's clock: the solvers', the kernels')
 
 
-class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin):
+class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin,
+                 SolutionOutputMixin):
     #: time budget of a new controller's cycles [s]; None: one control period (the dt of each
     #: update). Offline users (tests judging physics, batch simulations) may raise it for all.
     default_time_budget: float | None = None
@@ -118,13 +120,6 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin):
         self._constraints.append(self.dynamics_constraint)
         for obj in self._internal:
             obj.activate()
-
-    def remove_gravity_torques_from_solution(self, do_remove: bool) -> None:
-        """Subtract g(q) from the torque command (for robots whose drives compensate gravity)."""
-        self._remove_gravity = bool(do_remove)
-
-    def remove_coriolis_torques_from_solution(self, do_remove: bool) -> None:
-        self._remove_coriolis = bool(do_remove)
 
     def set_update_callback(self, cb: Callable[[float, float], None]) -> None:
         """Set the callback called at the end of every update(t, dt)."""
@@ -307,40 +302,11 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin):
             self._update_cb(current_time, dt)
         return True
 
-    def _write_out(self, x, cc) -> None:
-        """Take the solution x: accelerations, torques, command, the contacts' wrenches."""
-        if cc is not None:
-            step = cc.fused
-            if step is not None:  # its frame holds these arrays: two arguments instead of six
-                step._finish(step.frame, x)
-            else:
-                cc.finish(x, self._x, self._acc, self._tau, self._tau_cmd)
-            return
-        lay = self.layout
-        self._x[:] = x
-        self._acc[:] = x[lay.acc]
-        np.dot(lay.T, x, out=self._tau)
-        self._tau += lay.t0
-        self._tau_cmd[:] = self._tau
-        for c in lay.contacts:
-            c.record_solution(x)
-
     def get_levels(self) -> list[int]:
         """Priority levels of the current problem stack (one entry for ONE_LEVEL_WEIGHTED)."""
         if self._dirty:
             self._configure()
         return [p.level for p in self._problems]
-
-    def _make_command(self) -> None:
-        cmd = self._tau_cmd
-        cmd[:] = self._tau
-        if self._remove_gravity or self._remove_coriolis:
-            nb = self.layout.nbase
-            g = self.robot.get_generalized_gravity_torques()[nb:]
-            if self._remove_gravity:
-                cmd -= g
-            if self._remove_coriolis:
-                cmd -= self.robot.get_generalized_gravity_and_coriolis_torques()[nb:] - g
 
     def solution_found(self) -> bool:
         return self._solution_found
@@ -355,44 +321,6 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin):
     def diagnose(self):
         """Name the constraints that conflict in the last cycle (:mod:`.diagnosis`; ms)."""
         return diagnose(self)
-
-    def get_joint_torque_command(self) -> np.ndarray:
-        """Joint torques to send (gravity/Coriolis removed if asked)."""
-        return self._tau_cmd.copy()
-
-    def get_joint_acceleration_command(self) -> np.ndarray:
-        return self._acc[self.layout.joint_acc].copy()
-
-    def get_reduced_solution(self) -> np.ndarray:
-        """Return the solver's own variables x = [nu_dot, wrenches]."""
-        return self._x.copy()
-
-    def get_solution(self) -> np.ndarray:
-        """
-        Return the full solution [base acc, joint acc, base torque, joint torque, wrenches].
-
-        The base parts are empty for a fixed base.
-
-        Torques here are the full dynamic torques, before any gravity/Coriolis removal.
-        """
-        lay = self.layout
-        nb = lay.nbase
-        return np.concatenate((self._acc, np.zeros(nb), self._tau, self._x[lay.wrench]))
-
-    def compute_kkt_torques(self) -> np.ndarray:
-        """
-        Return the torques of the equality-only problem.
-
-        Tasks and equalities, no inequality or box constraints, from the matrices of the last
-        update.
-
-        A usable fallback when the QP has no solution.
-        """
-        if self._dirty:
-            self._configure()
-        x = self._problems[-1].solve_equality_only()
-        tau = self.layout.T @ x + self.layout.t0
-        return tau
 
     def print(self) -> None:  # noqa: A003 (ORCA API name)
         print(self.describe())
