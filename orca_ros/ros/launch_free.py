@@ -61,6 +61,9 @@ def _die_with_parent():
         pass
 
 
+# what a recorder must hear before a recorded run starts (see Procs.wait_recorded)
+RUN_TOPICS = ('/joint_states', '/effort_controller/commands')
+
 # the shipped arm's start: bent (q = 0 is the stretched, singular posture)
 ARM_Q0 = [0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]
 
@@ -142,6 +145,21 @@ class Procs:
         raise AssertionError(
             f"no log line containing '{text}' from {name}:\n{self.log(name)[-3000:]}"
         )
+
+    def wait_recorded(
+        self, recorder: str = 'recorder', topics=RUN_TOPICS, timeout: float = 120.0
+    ) -> None:
+        """
+        Wait until the recorder named ``recorder`` has received a first message on each topic.
+
+        Discovery is asynchronous: a recorder that matches the simulator and the controller late
+        misses the start of the run (a lockstep simulation, faster than real time, may be over
+        before it hears it). Start the bridge with ``start_paused:=true``, wait for this, then
+        unpause it (:meth:`orca_ros.ros.probe.Probe.unpause`): the bag holds the run from its
+        first step.
+        """
+        for topic in topics:
+            self.wait_log(recorder, f'first message on {topic}', timeout=timeout)
 
     def stop(self):
         for p, log, _ in self.procs:

@@ -169,12 +169,11 @@ def main(argv=None) -> int:
     try:
         # discovery is asynchronous: the run starts once the recorder receives states and
         # commands, so the bag holds it from its first step
-        for topic in ('/joint_states', '/effort_controller/commands'):
-            procs.wait_log('recorder', f'first message on {topic}', timeout=120)
+        procs.wait_recorded('recorder')
+        if not args.attach:
+            probe.unpause()
         from std_srvs.srv import Trigger  # noqa: PLC0415
 
-        if not args.attach:
-            probe.call(Trigger, '/pybullet_bridge/unpause', Trigger.Request(), timeout=60)
         probe.wait_for(lambda: probe.sim_time() >= 0.0, 60, 'joint states of the arm')
         t_start = probe.sim_time()
         probe.wait_for(

@@ -316,6 +316,14 @@ class Probe:
         self.wait_for(fut.done, timeout, f'answer of {name}')
         return fut.result()
 
+    def unpause(self, timeout: float = 60.0) -> None:
+        """Let a bridge started with ``start_paused:=true`` go (its ``~/unpause`` service)."""
+        from std_srvs.srv import Trigger  # noqa: PLC0415
+
+        res = self.call(Trigger, '/pybullet_bridge/unpause', Trigger.Request(), timeout=timeout)
+        if not res.success:
+            raise AssertionError(f'the bridge refused to unpause: {res.message}')
+
     def close(self):
         self._stop = True
         self.thread.join(timeout=5)
