@@ -22,6 +22,8 @@ A collision avoidance constraint from its configuration (``type: collision_avoid
       max_pairs: 16
       max_deceleration: 5.0       # m/s^2
       horizon: 0.1                # s
+      max_extrapolation: 0.1      # s: a moving obstacle's pose carried on (its poses' period
+                                  # plus latency: a 10 Hz perception, 0.2)
       obstacles: [table]          # names, each described below
       table: {shape: box, size: [1.0, 1.0, 0.05], position: [0.5, 0.0, 0.0], rpy: [0, 0, 0],
               frame: world}       # frame: world (default), or a link the obstacle moves with
@@ -41,7 +43,8 @@ from ..constraint.collision_avoidance import CollisionAvoidanceConstraint
 from ..math.rotations import make_transform, rotation_from_rpy
 from ..paths import share_path
 
-_SETTINGS = ('influence_distance', 'safety_distance', 'max_pairs', 'max_deceleration', 'horizon')
+_SETTINGS = ('influence_distance', 'safety_distance', 'max_pairs', 'max_deceleration', 'horizon',
+             'max_extrapolation')
 
 
 def _srdf_path(path: str, urdf_path: str | None) -> str:

@@ -30,6 +30,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 from .common import DEFAULT_QOS, pose_to_matrix, stamp_to_sec
 from ..constraint.collision_avoidance import CollisionAvoidanceConstraint
+from ..constraint.obstacle_velocity import ObstacleVelocity
 
 _SHAPES = {Marker.SPHERE: 'sphere', Marker.CUBE: 'box', Marker.CYLINDER: 'cylinder'}
 
@@ -72,7 +73,7 @@ class ObstacleMarkers:
         self._collision = [c for c in self.controller.get_constraints()
                            if isinstance(c, CollisionAvoidanceConstraint)]
         self._marker_specs: dict = {}  # name -> (shape, size, frame) of the obstacles from markers
-        self._marker_seen: dict = {}  # name -> (time, position) of its last pose
+        self._velocities = ObstacleVelocity()  # of the obstacles, from their poses
         if self._collision:
             self.create_subscription(MarkerArray, '~/obstacles', self._on_obstacles, DEFAULT_QOS)
 
@@ -91,7 +92,7 @@ class ObstacleMarkers:
                 for c in self._collision:
                     c.remove_obstacle(n)
                 del self._marker_specs[n]
-                self._marker_seen.pop(n, None)
+                self._velocities.forget(n)
             return
         shape, size, pose, frame = marker_obstacle(m, self.robot.get_base_frame())
         spec = (shape, size, frame)
@@ -99,17 +100,12 @@ class ObstacleMarkers:
         # together), else its receipt; receipts jitter against the poses (in lockstep, a marker
         # computed for one step read in the next), and the velocity with them
         stamped = stamp_to_sec(m.header.stamp) > 0.0
-        now, velocity = stamp_to_sec(m.header.stamp) if stamped else self._now(), None
-        seen = self._marker_seen.get(name)
-        if seen is not None and seen[3] != stamped:
-            seen = None  # two clocks: no velocity across them
-        if seen is not None and self._marker_specs.get(name) == spec and frame is None:
-            # republished in the world: its velocity from the last two poses of different
-            # instants (the constraint brakes for an obstacle closing in, not only for the arm)
-            if 0.0 < now - seen[0] <= 0.1:
-                velocity = (pose[:3, 3] - seen[1]) / (now - seen[0])
-            elif now == seen[0]:
-                velocity = seen[2]  # another pose of the same instant: the same velocity
+        now = stamp_to_sec(m.header.stamp) if stamped else self._now()
+        if self._marker_specs.get(name) != spec or frame is not None:
+            self._velocities.forget(name)  # a new shape, or one carried by a link
+        # republished in the world: its velocity from its poses (the stamps' clock, or the
+        # receipts': no velocity across the two)
+        velocity = self._velocities.observe(name, pose[:3, 3], now, stamped)
         # the pose's time on the controller's clock: its stamp in lockstep (the simulated time
         # the states carry), its receipt otherwise; the constraint carries it on from there
         at = now if (stamped and self.trigger == 'joint_state') or not stamped else None
@@ -119,5 +115,3 @@ class ObstacleMarkers:
             else:
                 c.add_obstacle(name, shape, size, pose, frame)
         self._marker_specs[name] = spec
-        if seen is None or now > seen[0]:
-            self._marker_seen[name] = (now, pose[:3, 3].copy(), velocity, stamped)

@@ -101,6 +101,11 @@ def rows(ws, n, dt, acc0):
     ws.cycle[0] += 1
     cycle = ws.cycle[0]
     relax = A / max(h, dt) * dt
+    last = ws.written[0]  # the rows of the last cycle, kept for the pairs that leave them
+    for i in range(last):
+        ws.lastsel[i], ws.lastseld[i] = ws.sel[i], ws.seld[i]
+        for c in range(C.shape[1]):
+            ws.lastC[i, c] = C[i, c]
     C[:, :] = 0.0
     lb[:] = -np.inf
     ub[:] = np.inf
@@ -152,6 +157,20 @@ def rows(ws, n, dt, acc0):
             ws.sel[out] = k
             ws.seld[out] = d
             out += 1
+    # a pair that had a row and has none now keeps its last one, its bound relaxing, until it
+    # lets go (CollisionAvoidanceConstraint.hold_departed)
+    for i in range(last):
+        k = ws.lastsel[i]
+        if k < 0 or ws.kept_cycle[k] != cycle - 1:
+            continue
+        bound = ws.kept[k] - relax
+        if bound > ws.settings[4] and out < C.shape[0]:
+            for c in range(C.shape[1]):
+                C[out, c] = ws.lastC[i, c]
+            lb[out] = bound
+            ws.kept[k], ws.kept_cycle[k] = bound, cycle
+            ws.sel[out], ws.seld[out] = k, ws.lastseld[i]
+            out += 1
     return out
 
 
@@ -174,6 +193,8 @@ FIELDS = (
     # each pair's last bound and the cycle it was set in (bounds relax at A / horizon at most),
     # and the cycle's count
     'kept', 'kept_cycle', 'cycle',
+    # the rows written (their count) and those of the last cycle: rows, pairs, distances
+    'written', 'lastC', 'lastsel', 'lastseld',
 )
 
 
@@ -263,6 +284,7 @@ class CollisionKernels:
             self.active, self.changed, np.full((size, 25), np.nan), res,
             np.zeros(size, dtype=np.int64), np.zeros(model.nv), con._sel, con._seld,
             con.settings, con.C, con.lb, con.ub, self.counts, *con.kept_bounds(),
+            con._written, con._lastC, con._last_sel, con._last_seld,
         )
         self._screen = entry(screen, self.ws)
         self._rows = entry(rows, self.ws, 0, 1e-3, 0)
