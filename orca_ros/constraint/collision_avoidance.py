@@ -219,7 +219,8 @@ class CollisionAvoidanceConstraint(GenericConstraint):
                         kept[k], when[k] = self._kept[old[n]], self._kept_cycle[old[n]]
                 new = {n: k for k, n in enumerate(names)}  # the last rows' pairs too (-1: gone)
                 for i in range(int(self._written[0])):
-                    self._sel[i] = new.get(self._kept_names[self._sel[i]], -1)
+                    if self._sel[i] >= 0:
+                        self._sel[i] = new.get(self._kept_names[self._sel[i]], -1)
             self._kept, self._kept_cycle, self._kept_names = kept, when, names
             self._kept_version = geom.version
         return self._kept, self._kept_cycle, self._cycle
