@@ -336,6 +336,10 @@ def test_diagnose_names_the_collision_constraint(example_robot_urdf):
     assert not c.update(0.0, 1e-3)
     d = c.diagnose()
     assert not d.feasible and set(d.conflicting_constraints) == {'collision', 'held'}, d.text()
+    # the collision constraint says which pairs: the hand's, within the safety distance
+    print(d.text())
+    assert 'obstacle:ball' in d.details['collision'] and 'hand' in d.details['collision']
+    assert f"collision ({d.details['collision']})" in d.text()
     # without the hard limits: a target through the ball; the constraint keeps the hand back
     c.remove_constraint('held')
     target = robot.get_frame_pose('panda_hand')

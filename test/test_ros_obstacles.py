@@ -157,6 +157,58 @@ def test_the_arm_yields_to_a_ball_and_returns_when_it_is_deleted(tmp_path):
         procs.stop()
 
 
+def test_an_absurd_obstacle_is_named_held_safe_and_its_deletion_restores_control(tmp_path):
+    """
+    A ball of 100 m round the base (metres for centimetres): the QP has no solution.
+
+    The safe command goes out (finite), the failure's diagnosis names the collision constraint
+    and the pairs deep in the obstacle; DELETE brings control back, the hand to where it held.
+    The simulator does not get the ball (it would put it round the arm as a body).
+    """
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    procs.start_arm(
+        'lockstep',
+        controller_args=(
+            '-p', 'constraints.names:=[torque_limit, position_limit, velocity_limit, collision]',
+            '-p', 'constraints.collision.type:=collision_avoidance',
+        ),
+        bridge_args=('-p', 'obstacles_topic:=/not_the_controllers'),
+    )
+    probe = Probe(domain)
+    pub = probe.node.create_publisher(MarkerArray, '/orca_controller/obstacles', 10)
+    diagnosed = 'QP failure diagnosis'
+    try:
+        probe.wait_sim(1.0, 120)
+        hand0 = probe.ee_pose()[:3, 3].copy()
+        t0 = probe.sim_time()
+        absurd = MarkerArray(markers=[_marker(scale=200.0, ident=7)])
+        probe.wait_for(lambda: pub.publish(absurd) or diagnosed in procs.log('controller'), 60,
+                       'the diagnosis of the failure')
+        line = [x for x in procs.log('controller').splitlines() if diagnosed in x][-1]
+        print(line)
+        assert 'conflicting constraints collision (' in line and 'mm into obstacle:test/7' in line
+        probe.wait_for(lambda: 'safe command: no QP solution' in
+                       probe.diagnostics.get('_message', ''), 60, 'the safe command reported')
+        deleted = MarkerArray(markers=[_marker(action=Marker.DELETE, ident=7)])
+        recovered = 'recovered from: no QP solution'
+        probe.wait_for(lambda: pub.publish(deleted) or recovered in procs.log('controller'), 60,
+                       recovered)
+        probe.wait_sim(2.0, 120)
+        with probe.lock:
+            efforts = np.array([e for t, e in probe.efforts if t >= t0])
+        back = np.linalg.norm(probe.ee_pose()[:3, 3] - hand0)
+        print(f'{len(efforts)} commands, largest {np.abs(efforts).max():.1f} Nm; the hand '
+              f'{back * 1e3:.2f} mm from where it held')
+        assert np.isfinite(efforts).all()
+        assert back < 1e-3
+        probe.wait_for(lambda: probe.diagnostics.get('_message') == 'controlling', 60,
+                       'controlling again, in /diagnostics')
+    finally:
+        probe.close()
+        procs.stop()
+
+
 def test_the_bridge_puts_the_obstacles_in_the_simulation(tmp_path):
     """
     A wall published on the controller's topic stops the hand physically; DELETE frees it.

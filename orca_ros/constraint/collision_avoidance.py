@@ -122,6 +122,16 @@ class CollisionAvoidanceConstraint(GenericConstraint):
 
     _m = property(lambda self: int(self._written[0]))
 
+    def explain(self) -> str:
+        """Name the pairs of the last cycle's rows within the safety distance, closest first."""
+        inside = [p for p in self.last_pairs if p[2] < self.safety_distance]
+        if not inside:
+            return 'no pair within the safety distance'
+        told = ', '.join(f'{a} {-d * 1e3:.1f} mm into {b}' if d < 0.0 else
+                         f'{a} and {b} {d * 1e3:.1f} mm apart' for a, b, d in inside[:3])
+        more = f' and {len(inside) - 3} more' if len(inside) > 3 else ''
+        return f'{told}{more} (safety distance {self.safety_distance * 1e3:g} mm)'
+
     def update(self, current_time: float, dt: float) -> None:
         """Recompute the rows: by the kernels straight away in the steady state."""
         if (self._kernels is not None and self.state is ActivationState.ACTIVATED

@@ -43,12 +43,16 @@ class Diagnosis:
     feasible: bool
     conflicting_constraints: list = field(default_factory=list)  # infeasible: the culprits
     blocked_tasks: list = field(default_factory=list)  # (task, constraint, residual ratio)
+    details: dict = field(default_factory=dict)  # culprit -> what it says of itself (explain())
 
     def text(self) -> str:
         if not self.feasible:
             if not self.conflicting_constraints:
                 return 'infeasible, and no single constraint removal restores feasibility'
-            return 'infeasible: conflicting constraints ' + ', '.join(self.conflicting_constraints)
+            return 'infeasible: conflicting constraints ' + ', '.join(
+                f'{c} ({self.details[c]})' if self.details.get(c) else c
+                for c in self.conflicting_constraints
+            )
         if not self.blocked_tasks:
             return 'feasible; no constraint keeps a task from its target'
         return '; '.join(
@@ -137,6 +141,19 @@ def _residuals(controller, x) -> dict:
     return out
 
 
+def _details(controller, names) -> dict:
+    """Return what each named constraint with an ``explain()`` method says of its last rows."""
+    out = {}
+    for name in names:
+        try:
+            explain = getattr(controller.get_constraint(name), 'explain', None)
+        except (KeyError, ValueError):
+            continue  # a group that is no constraint of its own (a contact's wrench bounds)
+        if explain is not None:
+            out[name] = explain()
+    return out
+
+
 def diagnose(controller, ratio: float = 0.5, tolerance: float = 1e-6) -> Diagnosis:
     """Name what conflicts in the last cycle's top-level problem (see the module docstring)."""
     groups = _Groups(controller)
@@ -145,7 +162,8 @@ def diagnose(controller, ratio: float = 0.5, tolerance: float = 1e-6) -> Diagnos
         culprits = [
             groups.groups[i][0] for i in range(len(groups.groups)) if groups.solve(i)[0]
         ]
-        return Diagnosis(feasible=False, conflicting_constraints=culprits)
+        return Diagnosis(feasible=False, conflicting_constraints=culprits,
+                         details=_details(controller, culprits))
     base = _residuals(controller, x)
     blocked = []
     for i, (name, _, _) in enumerate(groups.groups):
