@@ -163,7 +163,8 @@ def test_an_absurd_obstacle_is_named_held_safe_and_its_deletion_restores_control
 
     The safe command goes out (finite), the failure's diagnosis names the collision constraint
     and the pairs deep in the obstacle; DELETE brings control back, the hand to where it held.
-    The simulator does not get the ball (it would put it round the arm as a body).
+    The simulator refuses the ball (put round the arm as a body, it threw the joints to 100
+    rad/s).
     """
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
@@ -173,7 +174,6 @@ def test_an_absurd_obstacle_is_named_held_safe_and_its_deletion_restores_control
             '-p', 'constraints.names:=[torque_limit, position_limit, velocity_limit, collision]',
             '-p', 'constraints.collision.type:=collision_avoidance',
         ),
-        bridge_args=('-p', 'obstacles_topic:=/not_the_controllers'),
     )
     probe = Probe(domain)
     pub = probe.node.create_publisher(MarkerArray, '/orca_controller/obstacles', 10)
@@ -188,6 +188,9 @@ def test_an_absurd_obstacle_is_named_held_safe_and_its_deletion_restores_control
         line = [x for x in procs.log('controller').splitlines() if diagnosed in x][-1]
         print(line)
         assert 'conflicting constraints collision (' in line and 'mm into obstacle:test/7' in line
+        refused = "obstacle marker 'test/7' not simulated: it would go "
+        probe.wait_for(lambda: refused in procs.log('bridge'), 60, refused)
+        assert 'in the simulation' not in procs.log('bridge')
         probe.wait_for(lambda: 'safe command: no QP solution' in
                        probe.diagnostics.get('_message', ''), 60, 'the safe command reported')
         deleted = MarkerArray(markers=[_marker(action=Marker.DELETE, ident=7)])

@@ -28,16 +28,44 @@ import time
 import orca_ros as orca
 
 _NEXT_DOMAIN = [100 + (os.getpid() * 7) % 60]
+_FIRST_DOMAIN, _DOMAINS = 100, 130
+_HELD: dict = {}  # domain -> the open lock file that holds it for this process, oldest first
+
+
+def _claim(domain: int) -> bool:
+    """Hold ``domain`` for this process (a lock on its file); False: another process holds it."""
+    import fcntl  # noqa: PLC0415
+    import tempfile  # noqa: PLC0415
+
+    folder = os.path.join(tempfile.gettempdir(), 'orca_ros_domains')
+    os.makedirs(folder, exist_ok=True)
+    fh = open(os.path.join(folder, f'{domain}.lock'), 'w')
+    try:
+        fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        fh.close()
+        return False
+    _HELD[domain] = fh  # released when the process ends
+    return True
 
 
 def free_domain_id() -> int:
     """
-    Return a ROS domain no other test of this session uses.
+    Return a ROS domain that no other run on this machine uses, nor this process lately.
 
-    Domains 100..229, localhost-only discovery.
+    Domains 100..229, localhost-only discovery. Each is held by a lock file while the process
+    lives, so two sessions (two test runs, two main jobs) never share one: they would hear each
+    other's nodes (forced onto one, two runs of test_ros_obstacles.py both failed). When every
+    free one has been taken, this process's oldest is used again (its runs are over: one at a
+    time).
     """
-    d = _NEXT_DOMAIN[0]
-    _NEXT_DOMAIN[0] = 100 + (d - 100 + 1) % 130
+    for _ in range(_DOMAINS):
+        d = _NEXT_DOMAIN[0]
+        _NEXT_DOMAIN[0] = _FIRST_DOMAIN + (d - _FIRST_DOMAIN + 1) % _DOMAINS
+        if d not in _HELD and _claim(d):
+            return d
+    d = next(iter(_HELD))  # all taken: this process's oldest, moved to the end
+    _HELD[d] = _HELD.pop(d)
     return d
 
 

@@ -19,7 +19,10 @@ The same MarkerArray the controller reads (``obstacles_topic``, default
 (:func:`~orca_ros.ros.obstacle_markers.marker_obstacle`): each obstacle becomes a static body of
 its shape, so that a collision in the simulation is a real one. ``world`` and the base frame
 (empty ``frame_id``) are placed; a marker in a link's frame is refused here (the simulator would
-have to weld it to the link) with a throttled log line, as bad markers are.
+have to weld it to the link) with a throttled log line, as bad markers are. So is an obstacle that
+would go more than ``OVERLAP`` into the robot's moving links, added or moved (a marker of 100 m for
+10 cm): PyBullet would push the links out of it at once, as no real obstacle can (the lwr's joints
+at 100 rad/s); a moved one stays where it was.
 """
 
 from __future__ import annotations
@@ -31,6 +34,9 @@ from visualization_msgs.msg import Marker, MarkerArray
 from .common import DEFAULT_QOS, param
 from .obstacle_markers import marker_action, marker_obstacle
 from ..math.rotations import quaternion_xyzw
+
+#: the deepest an obstacle may go into the robot's moving links [m] (a foot on a ground box: 0)
+OVERLAP = 0.01
 
 
 class SimObstacles:
@@ -68,7 +74,13 @@ class SimObstacles:
         c = self.server.client
         known = self._bodies.get(name)
         if known is not None and known[1] == (shape, size):
+            was = c.getBasePositionAndOrientation(known[0])
             c.resetBasePositionAndOrientation(known[0], position, orientation)
+            try:
+                self._check_overlap(known[0])
+            except ValueError:
+                c.resetBasePositionAndOrientation(known[0], *was)
+                raise
             return
         if known is not None:
             self._remove(name)
@@ -84,5 +96,23 @@ class SimObstacles:
         body = c.createMultiBody(baseMass=0.0, baseCollisionShapeIndex=col,
                                  baseVisualShapeIndex=vis, basePosition=position,
                                  baseOrientation=orientation)
+        try:
+            self._check_overlap(body)
+        except ValueError:
+            c.removeBody(body)
+            raise
         self._bodies[name] = (body, (shape, size))
         self.get_logger().info(f"obstacle '{name}' in the simulation ({shape} {size})")
+
+    def _check_overlap(self, body: int) -> None:
+        """Raise ValueError if ``body`` goes more than OVERLAP into the robot's moving links."""
+        c, robot = self.server.client, self.model
+        deepest = None
+        for p in c.getClosestPoints(bodyA=body, bodyB=robot.body, distance=0.0):
+            if (p[4] >= 0 or not robot.fixed_base) and (deepest is None or p[8] < deepest[8]):
+                deepest = p
+        if deepest is not None and deepest[8] < -OVERLAP:
+            link = (c.getJointInfo(robot.body, deepest[4])[12].decode() if deepest[4] >= 0
+                    else 'base')
+            raise ValueError(f'it would go {-deepest[8] * 1e3:.0f} mm into the robot '
+                             f"('{link}'): no real obstacle can")
