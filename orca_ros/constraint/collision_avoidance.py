@@ -267,7 +267,7 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         self._sel, self._seld = np.zeros(m, dtype=np.int64), np.zeros(m)
         self._written[0] = 0
         # the rows of the last cycle, their pairs and distances (see hold_departed)
-        self._lastC, self._last_m = np.zeros_like(self.C), 0
+        self._lastC, self._last_m = np.zeros((m, self.robot.model.nv)), 0  # (acc. columns)
         self._last_sel, self._last_seld = np.full(m, -1, dtype=np.int64), np.zeros(m)
         # per pair: its last bound, and the cycle it was set in (see _update_constraint_function)
         self._kept_version, self._cycle = None, np.zeros(1, dtype=np.int64)
@@ -312,7 +312,7 @@ class CollisionAvoidanceConstraint(GenericConstraint):
                 continue  # its pair gone (an obstacle removed: _leave), or it has its row
             bound = kept[k] - relax
             if bound > self.settings[4] and m < self.max_pairs:
-                self.C[m], self.lb[m] = self._lastC[i], bound
+                self.C[m, self.layout.acc], self.lb[m] = self._lastC[i], bound
                 kept[k], when[k] = bound, cycle
                 self._sel[m], self._seld[m] = k, self._last_seld[i]
                 m += 1
@@ -349,7 +349,7 @@ class CollisionAvoidanceConstraint(GenericConstraint):
         C, lb, ub = self.C, self.lb, self.ub
         self.kept_bounds()  # (the last rows' pairs numbered as the geometry's now)
         last = self._last_m = int(self._written[0])
-        self._lastC[:last], self._last_sel[:last] = C[:last], self._sel[:last]
+        self._lastC[:last], self._last_sel[:last] = C[:last, self.layout.acc], self._sel[:last]
         self._last_seld[:last] = self._seld[:last]
         C.fill(0.0)
         lb.fill(-np.inf)

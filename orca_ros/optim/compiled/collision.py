@@ -102,10 +102,11 @@ def rows(ws, n, dt, acc0):
     cycle = ws.cycle[0]
     relax = A / max(h, dt) * dt
     last = ws.written[0]  # the rows of the last cycle, kept for the pairs that leave them
+    nv = ws.row.shape[0]  # (their accelerations' columns: the others are 0)
     for i in range(last):
         ws.lastsel[i], ws.lastseld[i] = ws.sel[i], ws.seld[i]
-        for c in range(C.shape[1]):
-            ws.lastC[i, c] = C[i, c]
+        for c in range(nv):
+            ws.lastC[i, c] = C[i, acc0 + c]
     C[:, :] = 0.0
     lb[:] = -np.inf
     ub[:] = np.inf
@@ -165,8 +166,8 @@ def rows(ws, n, dt, acc0):
             continue
         bound = ws.kept[k] - relax
         if bound > ws.settings[4] and out < C.shape[0]:
-            for c in range(C.shape[1]):
-                C[out, c] = ws.lastC[i, c]
+            for c in range(nv):
+                C[out, acc0 + c] = ws.lastC[i, c]
             lb[out] = bound
             ws.kept[k], ws.kept_cycle[k] = bound, cycle
             ws.sel[out], ws.seld[out] = k, ws.lastseld[i]
