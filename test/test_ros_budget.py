@@ -111,10 +111,13 @@ def test_timer_loop_keeps_its_period_and_its_fallback_under_a_failing_qp(tmp_pat
     # the fallback: every cycle failed and sent the safe command, finite and within the torques
     assert failures == cycles
     assert d1['_level'] == 2 and 'safe command: no QP solution' in d1['_message'], d1['_message']
-    # one command per cycle, counted by the node; the probe, a Python subscriber sharing the
-    # machine, receives a sample of them (under load fewer: 2765 of 3215 beside two CPU burners)
-    # whose content is checked
-    assert int(d1['commands_sent']) - int(d0['commands_sent']) == cycles
+    # one command per cycle, counted by the node: the solved ones', and those of the cycles that
+    # found the state stale (no solve: the safe command; one in a CI run, 3096 commands in 3095
+    # solves); the probe, a Python subscriber sharing the machine, receives a sample of them
+    # (under load fewer: 2765 of 3215 beside two CPU burners) whose content is checked
+    ran = int(d1['loop_cycles']) - int(d0['loop_cycles'])
+    print(f'{cycles} cycles solved, {ran - cycles} sent the safe command on a stale state')
+    assert int(d1['commands_sent']) - int(d0['commands_sent']) == ran >= cycles
     assert commands.shape[0] >= 300
     assert np.isfinite(commands).all() and np.abs(commands).max() <= 176.0
     # ... and held the arm (gravity and damping at the measured state)

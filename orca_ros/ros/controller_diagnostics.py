@@ -101,8 +101,8 @@ class ControllerDiagnostics:
             self.qp_failures,
             self.controller.dropped_levels,
         )
-        solved, sent, relaxed = (
-            self.solve_times.total, self.commands_sent, self.contacts_relaxed_cycles)
+        solved, sent, relaxed, ran = (self.solve_times.total, self.commands_sent,
+                                      self.contacts_relaxed_cycles, self.loop_cycles)
         stamp = self.get_clock().now().to_msg()
         c0, f0, d0 = self._diag_marks
         self._diag_marks = (cycles, fails, dropped)
@@ -158,6 +158,7 @@ class ControllerDiagnostics:
             'state_to_command_median_ms': f"{stats['latency_median_ms']:.3f}",
             'state_to_command_p99_ms': f"{stats['latency_p99_ms']:.3f}",
             'cycles': str(solved),
+            'loop_cycles': str(ran),  # with the cycles sent the safe command unsolved (stale)
             'qp_failures': str(fails),
             'commands_sent': str(sent),
             'contacts_relaxed_cycles': str(relaxed),

@@ -147,6 +147,7 @@ class OrcaControllerNode(
         self._enabled = True
         self._t_prev = None
         self.qp_failures = 0
+        self.loop_cycles = 0  # cycles run with a state: solved, or safe without a solve (stale)
         self.last_qp_failure = None  # what the last failed cycle said (for /diagnostics)
         self.contacts_relaxed_cycles = 0  # cycles solved with elastic contacts (see optim/)
         self._diagnosed = False
@@ -270,6 +271,7 @@ class OrcaControllerNode(
     def _cycle(self) -> None:
         if not self._have_state or self._stopped:
             return  # nothing is sent before the first valid state, nor after the shutdown hold
+        self.loop_cycles += 1
         wall = time.monotonic()
         if self._last_loop_wall is not None:
             self.loop_periods.push(wall - self._last_loop_wall)
