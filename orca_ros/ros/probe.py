@@ -39,7 +39,7 @@ class Probe:
         from orca_ros.ros.common import COMMAND_QOS
         import rclpy
         from rclpy.executors import SingleThreadedExecutor
-        from rclpy.qos import qos_profile_sensor_data
+        from rclpy.qos import QoSProfile, ReliabilityPolicy
         from sensor_msgs.msg import JointState
         from std_msgs.msg import Float64MultiArray
 
@@ -56,14 +56,16 @@ class Probe:
         self.odom: list = []  # (stamp, position, quaternion xyzw)
         self.commands: list = []
         self.efforts: list = []  # (stamp, torques the simulator applied in the step before stamp)
-        self.node.create_subscription(
-            JointState, '/joint_states', self._on_state, qos_profile_sensor_data
-        )
+        # best effort, as sensor data, with a deep queue: a probe that falls behind for a moment
+        # (its Python thread, a loaded machine) keeps the states (depth 5 lost the pair of steps
+        # a one-cycle torque jump was in: test_ros_trajectory's counterfactual saw 4.6 Nm)
+        sensor = QoSProfile(depth=1000, reliability=ReliabilityPolicy.BEST_EFFORT)
+        self.node.create_subscription(JointState, '/joint_states', self._on_state, sensor)
         from nav_msgs.msg import Odometry
         from trajectory_msgs.msg import MultiDOFJointTrajectoryPoint
 
         self.MultiDOFJointTrajectoryPoint = MultiDOFJointTrajectoryPoint
-        self.node.create_subscription(Odometry, '/odom', self._on_odom, qos_profile_sensor_data)
+        self.node.create_subscription(Odometry, '/odom', self._on_odom, sensor)
         from diagnostic_msgs.msg import DiagnosticArray
 
         self.diagnostics: dict = {}
