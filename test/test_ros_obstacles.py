@@ -75,9 +75,8 @@ class _Distance:
         return best
 
 
-def test_the_arm_yields_to_a_ball_and_returns_when_it_is_deleted(tmp_path):
-    domain = free_domain_id()
-    procs = Procs(domain, str(tmp_path))
+def _start_arm_with_collision(procs):
+    """Start the shipped lwr configuration in lockstep, plus a collision constraint (defaults)."""
     procs.start_arm(
         'lockstep',
         controller_args=(
@@ -85,6 +84,12 @@ def test_the_arm_yields_to_a_ball_and_returns_when_it_is_deleted(tmp_path):
             '-p', 'constraints.collision.type:=collision_avoidance',
         ),
     )
+
+
+def test_the_arm_yields_to_a_ball_and_returns_when_it_is_deleted(tmp_path):
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    _start_arm_with_collision(procs)
     probe = Probe(domain)
     pub = probe.node.create_publisher(MarkerArray, '/orca_controller/obstacles', 10)
     distance = _Distance()
@@ -168,13 +173,7 @@ def test_an_absurd_obstacle_is_named_held_safe_and_its_deletion_restores_control
     """
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    procs.start_arm(
-        'lockstep',
-        controller_args=(
-            '-p', 'constraints.names:=[torque_limit, position_limit, velocity_limit, collision]',
-            '-p', 'constraints.collision.type:=collision_avoidance',
-        ),
-    )
+    _start_arm_with_collision(procs)
     probe = Probe(domain)
     pub = probe.node.create_publisher(MarkerArray, '/orca_controller/obstacles', 10)
     diagnosed = 'QP failure diagnosis'

@@ -1,0 +1,101 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+The collision rows' smoothness: bounds that relax, rows that relax away instead of vanishing.
+
+A mixin of :class:`~.collision_avoidance.CollisionAvoidanceConstraint` (its arrays: ``C``, ``lb``,
+``settings``, the pairs written ``_sel`` / ``_seld`` / ``_written``, the last cycle's rows): each
+pair's last bound and the cycle it was set in, kept across obstacles coming and going; the rows of
+removed obstacles (``_leave``) and of pairs that left the rows (``hold_departed``), their bounds
+relaxing at max_deceleration / horizon per second until they let go. The compiled cycle's kernels
+(``optim/compiled/collision.py``) do the same on the same arrays.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: a row is let go once its bound lets the bodies close in at LET_GO times max_deceleration
+LET_GO = 10.0
+
+
+class RowRelaxation:
+    def kept_bounds(self):
+        """
+        Return each pair's last bound, the cycle it was set in, and the cycle's count (arrays).
+
+        A bound relaxes from its last value at A / horizon per second at most. The pairs are
+        renumbered when obstacles come and go: what was kept follows each pair by its bodies'
+        names (else the arm's own pairs would lose theirs when a ball is removed: 12 Nm in one
+        cycle, test_ros_obstacles.py).
+        """
+        geom = self.geometry
+        if self._kept_version != geom.version:
+            names = [geom.names_of(k) for k in range(len(geom._pairs))]
+            kept, when = np.zeros(max(1, len(names))), np.full(max(1, len(names)), -2, np.int64)
+            if self._kept_version is not None:
+                old = {n: k for k, n in enumerate(self._kept_names)}
+                for k, n in enumerate(names):
+                    if n in old:
+                        kept[k], when[k] = self._kept[old[n]], self._kept_cycle[old[n]]
+                new = {n: k for k, n in enumerate(names)}  # the last rows' pairs too (-1: gone)
+                for i in range(int(self._written[0])):
+                    if self._sel[i] >= 0:
+                        self._sel[i] = new.get(self._kept_names[self._sel[i]], -1)
+            self._kept, self._kept_cycle, self._kept_names = kept, when, names
+            self._kept_version = geom.version
+        return self._kept, self._kept_cycle, self._cycle
+
+    def _leave(self, m: int, dt: float) -> None:
+        """
+        Write the rows of removed obstacles after the ``m`` rows of this cycle's pairs.
+
+        Each is the row its pair had last, its bound relaxed at A / horizon per second until it
+        lets the bodies close in at LET_GO A (a task pulling hard into the place may still meet a
+        bound below -A: dropped there, it stepped the lwr's torques 50 Nm), or room runs out.
+        """
+        relax = self.max_deceleration / max(self.horizon, dt) * dt
+        keep = []
+        for row, bound in self._leaving:
+            bound -= relax
+            if bound > self.settings[4] and m < self.max_pairs:
+                self.C[m], self.lb[m] = row, bound
+                m += 1
+                keep.append((row, bound))
+        self._leaving = keep
+
+    def hold_departed(self, m: int, dt: float) -> int:
+        """
+        Write, after the ``m`` rows of this cycle, those of the pairs that had one and left.
+
+        Each keeps the row it had last, its bound relaxing at A / horizon per second, until it
+        lets the bodies close in at LET_GO A, or room runs out; return the rows' count. A pair
+        leaves with a bound that still binds when an obstacle moves off at once (a sparse pose,
+        a detection corrected) or the arm is pushed off one that came too close: dropped at
+        once, the row let the lwr's torques jump 154 Nm in one cycle (test_obstacle_updates.py).
+        Its last row, not the pair's row now: an obstacle that jumped has another normal.
+        """
+        relax = self.max_deceleration / max(self.horizon, dt) * dt
+        kept, when, cycle = self._kept, self._kept_cycle, self._cycle[0]
+        for i in range(self._last_m):
+            k = int(self._last_sel[i])
+            if k < 0 or when[k] != cycle - 1:
+                continue  # its pair gone (an obstacle removed: _leave), or it has its row
+            bound = kept[k] - relax
+            if bound > self.settings[4] and m < self.max_pairs:
+                self.C[m, self.layout.acc], self.lb[m] = self._lastC[i], bound
+                kept[k], when[k] = bound, cycle
+                self._sel[m], self._seld[m] = k, self._last_seld[i]
+                m += 1
+        return m
