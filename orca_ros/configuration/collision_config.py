@@ -24,6 +24,9 @@ A collision avoidance constraint from its configuration (``type: collision_avoid
       horizon: 0.1                # s
       max_extrapolation: 0.1      # s: a moving obstacle's pose carried on (its poses' period
                                   # plus latency: a 10 Hz perception, 0.2)
+      pair_samples: 10000         # postures sampled: self pairs never or always in contact
+                                  # are left out (0: none; python -m
+                                  # orca_ros.robot.collision_pairs URDF writes them as an SRDF)
       obstacles: [table]          # names, each described below
       table: {shape: box, size: [1.0, 1.0, 0.05], position: [0.5, 0.0, 0.0], rpy: [0, 0, 0],
               frame: world}       # frame: world (default), or a link the obstacle moves with
@@ -44,7 +47,7 @@ from ..math.rotations import make_transform, rotation_from_rpy
 from ..paths import share_path
 
 _SETTINGS = ('influence_distance', 'safety_distance', 'max_pairs', 'max_deceleration', 'horizon',
-             'max_extrapolation')
+             'max_extrapolation', 'pair_samples')
 
 
 def _srdf_path(path: str, urdf_path: str | None) -> str:
@@ -66,7 +69,8 @@ def make_collision_avoidance(name: str, cc: dict, robot) -> CollisionAvoidanceCo
     for key in _SETTINGS:
         if key in cc:
             try:
-                kwargs[key] = int(cc[key]) if key == 'max_pairs' else float(cc[key])
+                whole = key in ('max_pairs', 'pair_samples')
+                kwargs[key] = int(cc[key]) if whole else float(cc[key])
             except (TypeError, ValueError):
                 raise ConfigError(f"constraint '{name}': {key} must be a number") from None
     srdf = _srdf_path(str(cc['srdf']), robot.urdf_path) if cc.get('srdf') else None

@@ -50,6 +50,7 @@ from .generic_constraint import GenericConstraint
 from .viable_bound import ViableBound
 from ..common.task_base import ActivationState
 from ..robot.collision_geometry import CollisionGeometry, make_shape
+from ..robot.collision_pairs import SAMPLES
 from ..utils.logger import get_logger
 
 _LOG = get_logger('collision')
@@ -72,9 +73,13 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
     def __init__(self, name: str, srdf: str | None = None, influence_distance: float = 0.1,
                  safety_distance: float = 0.02, max_pairs: int = 16,
                  max_deceleration: float = 5.0, horizon: float = 0.1, package_dirs=None,
-                 max_extrapolation: float = EXTRAPOLATION):
+                 max_extrapolation: float = EXTRAPOLATION, pair_samples: int = SAMPLES):
         super().__init__(name)
         self.srdf, self.package_dirs = srdf, package_dirs
+        if int(pair_samples) < 0:
+            raise ValueError(f"constraint '{name}': pair_samples must be >= 0")
+        #: postures sampled to leave out the self pairs never or always in contact (0: none)
+        self.pair_samples = int(pair_samples)
         if not (np.isfinite(max_extrapolation) and max_extrapolation >= 0.0):
             raise ValueError(f"constraint '{name}': max extrapolation must be finite and >= 0")
         #: the longest a pose is carried on along its velocity [s] (see move_obstacle)
@@ -231,7 +236,9 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         self._bound.set_acceleration(self.max_deceleration)
         robot = self.robot
         if self.geometry is None or self.geometry.model is not robot.model:
-            self.geometry = CollisionGeometry(robot, self.srdf, self.package_dirs)
+            self.geometry = CollisionGeometry(robot, self.srdf, self.package_dirs,
+                                              samples=self.pair_samples)
+            _LOG.info("constraint '%s': %s", self.name, self.geometry.pair_summary)
             for name, args in self._pending.items():
                 self.geometry.add_obstacle(name, *args)
             self._pending = {}

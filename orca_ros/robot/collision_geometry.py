@@ -39,6 +39,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
+from . import collision_pairs
 from .urdf_text import resolve_package_uris
 
 SHAPES = {'sphere': 1, 'box': 3, 'cylinder': 2, 'capsule': 2}  # and how many sizes each takes
@@ -133,7 +134,8 @@ def _bounding_capsule(geometry) -> np.ndarray:
 
 
 class CollisionGeometry:
-    def __init__(self, robot, srdf: str | None = None, package_dirs=None, rounding: float = 0.01):
+    def __init__(self, robot, srdf: str | None = None, package_dirs=None, rounding: float = 0.01,
+                 samples: int = collision_pairs.SAMPLES, cache: bool = True):
         """
         Load the robot's collision geometry and its pairs.
 
@@ -141,7 +143,9 @@ class CollisionGeometry:
         ``package_dirs``: {package: directory} for ``package://`` names the URDF's location does
         not resolve; ``rounding``: every body is inflated by this radius (coal's swept sphere), so
         that its surface, and the normal of a pair, move continuously as the closest features
-        change (on a polyhedral hull the normal jumps from facet to facet).
+        change (on a polyhedral hull the normal jumps from facet to facet); ``samples``: postures
+        sampled to leave out the pairs never or always in contact (:mod:`.collision_pairs`, 0:
+        none; ``cache``: their cache file used).
         """
         self.rounding = float(rounding)
         model = robot.model
@@ -164,8 +168,20 @@ class CollisionGeometry:
                     continue  # one body, or adjacent bodies
                 gm.addCollisionPair(pin.CollisionPair(i, j))
         self.pairs_before_srdf = len(gm.collisionPairs)
+        links = {frozenset(collision_pairs.link_pair(model, gm, p)) for p in gm.collisionPairs}
         if srdf is not None:
             pin.removeCollisionPairs(model, gm, srdf)
+        kept = {collision_pairs.link_pair(model, gm, p) for p in gm.collisionPairs}
+        #: the robot's link pairs not watched: {(link, link): reason} (see .collision_pairs)
+        self.left_out = {tuple(sorted(p)): 'disabled' for p in
+                         links - {frozenset(p) for p in kept}}
+        start = [robot.get_configuration()] if robot.is_initialized() else []
+        self.left_out.update(collision_pairs.left_out(model, gm, start, samples, cache=cache))
+        collision_pairs.remove_pairs(model, gm, self.left_out)
+        #: one line: the link pairs watched and those left out, by reason
+        self.pair_summary = collision_pairs.summary(
+            self.left_out, len({collision_pairs.link_pair(model, gm, p)
+                                for p in gm.collisionPairs}))
         self.obstacles: dict[str, int] = {}  # name -> geometry index
         self.velocities: dict[str, np.ndarray] = {}  # name -> linear velocity (world) if moving
         self.version = 0

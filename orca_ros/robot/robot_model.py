@@ -321,6 +321,10 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         """Return nu in Pinocchio's convention (a view, valid until the next state change)."""
         return self._v_pin
 
+    def get_configuration(self) -> np.ndarray:
+        """Return q in Pinocchio's convention (see :meth:`set_configuration`), a copy."""
+        return self._q_pin.copy()
+
     def get_world_to_base_transform(self) -> np.ndarray:
         state_input.sync_base(self)
         return self._world_H_base.copy()
