@@ -43,6 +43,7 @@ from .task_registry import TaskRegistryMixin
 from .weighted_problem import WeightedProblem
 from ..constraint.dynamics_equation_constraint import DynamicsEquationConstraint
 from ..constraint.generic_constraint import GenericConstraint
+from ..safety.safe_command import SafeCommand
 from ..task.generic_task import GenericTask
 from ..task.regularisation_task import RegularisationTask
 from ..utils.logger import get_logger
@@ -110,6 +111,8 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin,
         self._tau_cmd = np.zeros(n)
         self._acc = np.zeros(self.layout.nv)
         self._x = np.zeros(self.layout.nx)
+        # a failed cycle's command (SolutionOutputMixin._command_safe): the node's defaults
+        self.safe_command = SafeCommand(robot, damping=10.0, ramp=0.2)
         # always present, always active: the equation of motion and a small regularisation
         self.global_regularisation = RegularisationTask('GlobalRegularisation')
         self.dynamics_constraint = DynamicsEquationConstraint('DynamicsEquation')
@@ -194,7 +197,14 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin,
         """
         Recompute everything for the robot's current state and solve.
 
-        True when a solution was found.
+        True when a solution was found: the command (:meth:`get_joint_torque_command`) is the
+        solution's. False: no solution (:meth:`get_return_code` says why, :meth:`diagnose` which
+        constraints conflict) and the command is the safe one (:meth:`command_is_safe`),
+        g(q) - M(q) k_d v clipped to the URDF's torque limits (g left out where the drives
+        compensate gravity: :meth:`remove_gravity_torques_from_solution`), the last good command
+        fading into it over the ramp from the first failed cycle on (``current_time`` measures the
+        fade; :meth:`set_safe_command`, :class:`~orca_ros.safety.SafeCommand`). The failure
+        branch does that work; a success restarts the fade for the next failure.
         """
         self._solution_found = False
         budget = self._time_budget
@@ -277,14 +287,16 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin,
                 deadline, self._max_iterations, self.priorities, self.name
             )
         self.dropped_levels += dropped
-        self._return_code = code
         if code is _SUCCESS:
+            self._return_code = code
             if problem is not None:  # (None: the one-call cycle wrote it out)
                 self._write_out(problem.x, cc)
             if self._remove_gravity or self._remove_coriolis:
                 self._make_command()
             self._solution_found = True
-        else:
+        else:  # the safe command; its fade starts anew at a failure after a success
+            self._command_safe(current_time, self._return_code is _SUCCESS)
+            self._return_code = code
             _LOG.debug(
                 "controller '%s': no solution at t=%.4f (%s)", self.name, current_time, code.value
             )

@@ -17,20 +17,29 @@ The controller's solution and command: written out after a solve, read by the ca
 A part of :class:`.controller.Controller` (a mixin: the same object). The solution x of the last
 level is turned into accelerations, torques, the command (gravity and Coriolis torques removed
 where asked) and the contacts' wrenches (:meth:`_write_out`, or by the compiled cycle's kernel);
-the getters return copies.
+the getters return copies. A failed cycle's command is the safe one (:meth:`_command_safe`, the
+controller's :class:`~orca_ros.safety.SafeCommand`): a loop that sends the command whatever
+``update`` returned brakes the robot instead of holding a torque that no longer fits its state.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from .solvers import ReturnCode
+
 
 class SolutionOutputMixin:
     """The solution's arrays (``_x``, ``_acc``, ``_tau``, ``_tau_cmd``) and what reads them."""
 
     def remove_gravity_torques_from_solution(self, do_remove: bool) -> None:
-        """Subtract g(q) from the torque command (for robots whose drives compensate gravity)."""
+        """
+        Subtract g(q) from the torque command (for robots whose drives compensate gravity).
+
+        The safe command of a failed cycle then leaves g(q) out too.
+        """
         self._remove_gravity = bool(do_remove)
+        self.safe_command.gravity_by_hardware = self._remove_gravity
 
     def remove_coriolis_torques_from_solution(self, do_remove: bool) -> None:
         self._remove_coriolis = bool(do_remove)
@@ -65,8 +74,44 @@ class SolutionOutputMixin:
                 cmd -= self.robot.get_generalized_gravity_and_coriolis_torques()[nb:] - g
 
     def get_joint_torque_command(self) -> np.ndarray:
-        """Joint torques to send (gravity/Coriolis removed if asked)."""
+        """
+        Joint torques to send (gravity/Coriolis removed if asked).
+
+        After a successful ``update``, the solution's; after a failed one, the safe command
+        (:meth:`command_is_safe`): bounded by the URDF's torque limits, braking every joint with
+        the same time constant 1/k_d, faded in from the last good command.
+        """
         return self._tau_cmd.copy()
+
+    def command_is_safe(self) -> bool:
+        """Tell whether the command is the safe one (the last ``update`` failed)."""
+        return self._return_code is not ReturnCode.SUCCESS and self.safe_command.active
+
+    def set_safe_command(self, damping: float, ramp: float) -> None:
+        """
+        Set the failed cycle's command: damping k_d [1/s] and fade time ``ramp`` [s].
+
+        tau = g(q) - M(q) k_d v: each joint's speed decays as exp(-k_d t) once the fade is over
+        (defaults 10 /s and 0.2 s, as the node's ``safe_damping`` and ``safe_ramp``).
+        """
+        for what, x in (('damping', damping), ('ramp', ramp)):
+            if not (np.isfinite(x) and x >= 0.0):
+                raise ValueError(
+                    f"controller '{self.name}': safe command {what} must be finite and >= 0, "
+                    f'got {x}'
+                )
+        self.safe_command.damping, self.safe_command.ramp = float(damping), float(ramp)
+
+    def _command_safe(self, t: float, after_success: bool) -> None:
+        """
+        Make the failed cycle's command the safe one at the robot's state (the cycle's).
+
+        ``after_success``: the cycle before succeeded, the fade starts anew from its command.
+        """
+        safe = self.safe_command
+        if after_success:
+            safe.reset()
+        self._tau_cmd[:] = safe.compute_at_state(t, self._tau_cmd)
 
     def get_joint_acceleration_command(self) -> np.ndarray:
         return self._acc[self.layout.joint_acc].copy()
