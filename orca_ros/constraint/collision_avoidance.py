@@ -27,7 +27,10 @@ its acceleration-level forms). The distance is a coordinate with a lower limit
 ``safety_distance``: the viable bound of the joint limits (:mod:`.viable_bound`) keeps the next
 state able to stop before it at ``max_deceleration`` and approaches it over ``horizon``, never
 asking for more than that deceleration (obstacles move, witness points jump between features:
-a state already inside is brought back at that deceleration, the QP stays feasible). One row per
+a pair with a row that an obstacle jumps into is brought back at that deceleration). A pair found
+inside the safety distance when it enters the rows (a start, an obstacle put close) is held
+where it is and not let closer, its floor following it out (:meth:`floor_of`): never asked to
+jump apart. One row per
 pair, the ``max_pairs`` closest: the QP's size is fixed; unused rows are relaxed. A pair left
 out for that budget has no row, and may enter it already binding: the Panda's hand going round a
 ball (test_collision_avoidance.py) keeps ~10 pairs close to it, its hand and finger hulls; with 8
@@ -107,6 +110,10 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         # attribute set every cycle would tell the compiled cycle the constraint changed)
         self._written = np.zeros(1, dtype=np.int64)
         self._sel, self._seld = np.zeros(0, dtype=np.int64), np.zeros(0)
+        # pairs found inside the safety distance as they entered the rows (a count), and the
+        # count and time of the last line that named them
+        self.found = np.zeros(1, dtype=np.int64)
+        self._told = (0, -np.inf)
 
     influence_distance = property(lambda self: float(self.settings[0]),
                                   doc='pairs closer than this [m] are watched')
@@ -142,8 +149,20 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
                 and self._cb_begin is None and self._cb_end is None and not self._moving):
             self.robot._update_terms()  # (the compiled cycle's pass: nothing to do)
             if self._by_kernels(dt):
+                if self.found[0] != self._told[0]:
+                    self._tell_found(current_time)
                 return
         super().update(current_time, dt)
+        if self.found[0] != self._told[0]:
+            self._tell_found(current_time)
+
+    def _tell_found(self, now: float) -> None:
+        """Name the pairs found inside the safety distance: held there (at most 1 line a second)."""
+        if now - self._told[1] < 1.0:
+            return
+        self._told = (int(self.found[0]), now)
+        _LOG.warning("constraint '%s': pairs found inside the safety distance are held where they "
+                     'are, not let closer: %s', self.name, self.explain())
 
     def _by_kernels(self, dt: float) -> bool:
         """Fill the rows by the kernels (the robot's terms are this state's); False: failed."""
@@ -320,6 +339,29 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         if self._leaving:
             self._leave(m, dt)
 
+    def floor_of(self, k: int, d: float, cycle: int) -> float:
+        """
+        Return the least distance pair ``k``, at distance ``d``, is held at this cycle; keep it.
+
+        The safety distance, or less for a pair found inside it: one that enters the rows there
+        (a start, an obstacle put close, a pair back from beyond ``max_pairs``) is held where it
+        is, not pushed apart (at up to max_deceleration: a jump the joints' limits may not allow,
+        the QP then infeasible); while it keeps its row its floor follows it out, never back in,
+        up to the safety distance. A pair with a row that an obstacle jumps into keeps its floor
+        and is braked back out (safety first). The kernels (``optim/compiled/collision.py``)
+        keep the same floors.
+        """
+        safety = self.settings[1]
+        if d >= safety:
+            floor = safety
+        elif self._kept_cycle[k] == cycle - 1:  # it had a row: its floor, or further out
+            floor = min(max(self._floor[k], d), safety)
+        else:
+            floor = d
+            self.found[0] += 1
+        self._floor[k] = floor
+        return floor
+
     def _write_rows(self, rows: list, dt: float) -> None:
         """Write this cycle's rows and their bounds (each relaxing at A / horizon at most)."""
         if not rows:
@@ -330,15 +372,15 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         vel.fill(0.0)
         drift = np.zeros(len(rows))
         acc = self.layout.acc
-        for i, (r, closing, row, dr, _, _) in enumerate(rows):
+        kept, when, cycle = self._kept, self._kept_cycle, self._cycle[0]
+        for i, (_, closing, row, dr, k, d) in enumerate(rows):
             C[i, acc] = row
-            room[i], vel[i], drift[i] = r, closing, dr
+            room[i], vel[i], drift[i] = d - self.floor_of(k, d, cycle), closing, dr
         self._bound.upper(room, vel, dt, max(self.horizon, dt), out, one_step=False)
         m = len(rows)
         lb[:m] = -out[:m] - drift  # closing acceleration at most out: d_ddot >= -out
         # a bound relaxes at most at A / horizon per second (never past its cap A - drift)
-        relax, cycle = self.max_deceleration / max(self.horizon, dt) * dt, self._cycle[0]
-        kept, when = self._kept, self._kept_cycle
+        relax = self.max_deceleration / max(self.horizon, dt) * dt
         for i in range(m):
             k = rows[i][4]
             if when[k] == cycle - 1 and lb[i] < kept[k] - relax:

@@ -33,7 +33,10 @@ LET_GO = 10.0
 class RowRelaxation:
     def kept_bounds(self):
         """
-        Return each pair's last bound, the cycle it was set in, and the cycle's count (arrays).
+        Return each pair's last bound, the cycle it was set in, its floor, the cycle's count.
+
+        (Arrays.) The floor is the least distance the pair is held at (see
+        :meth:`~.collision_avoidance.CollisionAvoidanceConstraint.floor_of`).
 
         A bound relaxes from its last value at A / horizon per second at most. The pairs are
         renumbered when obstacles come and go: what was kept follows each pair by its bodies'
@@ -43,19 +46,22 @@ class RowRelaxation:
         geom = self.geometry
         if self._kept_version != geom.version:
             names = [geom.names_of(k) for k in range(len(geom._pairs))]
-            kept, when = np.zeros(max(1, len(names))), np.full(max(1, len(names)), -2, np.int64)
+            size = max(1, len(names))
+            kept, when, floor = np.zeros(size), np.full(size, -2, np.int64), np.zeros(size)
             if self._kept_version is not None:
                 old = {n: k for k, n in enumerate(self._kept_names)}
                 for k, n in enumerate(names):
                     if n in old:
                         kept[k], when[k] = self._kept[old[n]], self._kept_cycle[old[n]]
+                        floor[k] = self._floor[old[n]]
                 new = {n: k for k, n in enumerate(names)}  # the last rows' pairs too (-1: gone)
                 for i in range(int(self._written[0])):
                     if self._sel[i] >= 0:
                         self._sel[i] = new.get(self._kept_names[self._sel[i]], -1)
             self._kept, self._kept_cycle, self._kept_names = kept, when, names
+            self._floor = floor
             self._kept_version = geom.version
-        return self._kept, self._kept_cycle, self._cycle
+        return self._kept, self._kept_cycle, self._floor, self._cycle
 
     def _leave(self, m: int, dt: float) -> None:
         """

@@ -150,7 +150,15 @@ def rows(ws, n, dt, acc0):
         if d < influence or room < h * closing + closing * abs(closing) / A:
             for c in range(row.shape[0]):
                 C[out, acc0 + c] = row[c]
-            bound = -viable_upper(room, closing, A, dt, max(h, dt), False) - drift
+            floor = safety  # (CollisionAvoidanceConstraint.floor_of)
+            if d < safety:
+                if ws.kept_cycle[k] == cycle - 1:
+                    floor = min(max(ws.floor[k], d), safety)
+                else:
+                    floor = d
+                    ws.found[0] += 1
+            ws.floor[k] = floor
+            bound = -viable_upper(d - floor, closing, A, dt, max(h, dt), False) - drift
             if ws.kept_cycle[k] == cycle - 1 and bound < ws.kept[k] - relax:
                 bound = min(ws.kept[k] - relax, A - drift)
             lb[out] = bound
@@ -192,8 +200,9 @@ FIELDS = (
     # distances computed and skipped (their last one, less the bodies' motion, beyond reach)
     'sel', 'seld', 'settings', 'C', 'lb', 'ub', 'counts',
     # each pair's last bound and the cycle it was set in (bounds relax at A / horizon at most),
-    # and the cycle's count
-    'kept', 'kept_cycle', 'cycle',
+    # its floor (the least distance it is held at), the pairs found inside their safety
+    # distance (a count), and the cycle's count
+    'kept', 'kept_cycle', 'floor', 'found', 'cycle',
     # the rows written (their count) and those of the last cycle: rows, pairs, distances
     'written', 'lastC', 'lastsel', 'lastseld',
 )
@@ -277,6 +286,7 @@ class CollisionKernels:
         # the pairs coal computes: none until screened (then those that changed, when they do)
         self.active, self.changed = np.zeros((ng, ng), dtype=np.bool_), np.zeros(1, np.bool_)
         gd.deactivateAllCollisionPairs()
+        kept, when, floor, cycle = con.kept_bounds()
         self.ws = _construct(
             oMg, views[0], views[1], views[2], data.J, sup, robot._v_pin,
             np.array(geom._joint, dtype=np.int64), geom.placement, gsphere, geom._capsule,
@@ -284,7 +294,7 @@ class CollisionKernels:
             np.zeros((ng, 6)), np.zeros(size), np.zeros(size, dtype=np.int64),
             self.active, self.changed, np.full((size, 25), np.nan), res,
             np.zeros(size, dtype=np.int64), np.zeros(model.nv), con._sel, con._seld,
-            con.settings, con.C, con.lb, con.ub, self.counts, *con.kept_bounds(),
+            con.settings, con.C, con.lb, con.ub, self.counts, kept, when, floor, con.found, cycle,
             con._written, con._lastC, con._last_sel, con._last_seld,
         )
         self._screen = entry(screen, self.ws)
