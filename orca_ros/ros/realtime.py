@@ -17,7 +17,8 @@ The controller process's scheduling: real-time priority and CPU affinity (Linux)
 As ros2_control's controller manager does, the node asks for ``SCHED_FIFO`` at
 ``thread_priority`` (50 by default; 0 leaves the scheduling alone) and, when ``cpu_affinity``
 lists CPUs, pins itself to them. Every thread of the process at that moment is set (the executor's,
-the middleware's), and threads started later inherit it from their creator.
+the middleware's), and threads started later inherit it from their creator. A thread that ends
+between the listing and its setting is skipped: threads come and go while the node runs.
 
 Why (measured, bench/bench_node_soak.py's pair on 2 cores, 10 minutes each): at normal
 priority the control timer's wake-up waited behind the simulator and the middleware's threads
@@ -52,7 +53,8 @@ def configure_scheduling(priority: int, cpus) -> list[tuple[str, str]]:
     Set ``SCHED_FIFO`` at ``priority`` and the affinity ``cpus`` on every thread of this process.
 
     ``priority`` 1..99, 0: unchanged; ``cpus`` empty: unchanged. Returns the log lines to write,
-    as ``(level, text)``: what was set, or why not.
+    as ``(level, text)``: what was set, or why not. A thread listed that has ended by the time it
+    is set is skipped (:func:`_each`), and not counted among those set.
     """
     out: list[tuple[str, str]] = []
     priority = int(priority)
@@ -68,16 +70,14 @@ def configure_scheduling(priority: int, cpus) -> list[tuple[str, str]]:
             out.append(('warning', 'SCHED_FIFO is not available on this platform'))
         else:
             try:
-                for tid in threads:
-                    _each(os.sched_setscheduler, tid, os.SCHED_FIFO, os.sched_param(priority))
-                out.append(
-                    ('info', f'SCHED_FIFO priority {priority} set on {len(threads)} thread(s)')
-                )
+                fifo = os.sched_param(priority)
+                n = sum(_each(os.sched_setscheduler, tid, os.SCHED_FIFO, fifo) for tid in threads)
+                out.append(('info', f'SCHED_FIFO priority {priority} set on {n} thread(s)'))
             except OSError as exc:
                 for tid in threads:  # all or none: a half-set process is worse than neither
                     try:
                         os.sched_setscheduler(tid, os.SCHED_OTHER, os.sched_param(0))
-                    except OSError:
+                    except OSError:  # (ended since, too)
                         pass
                 out.append(
                     (
@@ -105,12 +105,18 @@ def configure_scheduling(priority: int, cpus) -> list[tuple[str, str]]:
     return out
 
 
-def _each(setter, tid: int, *args) -> None:
-    """Apply ``setter`` to thread ``tid``; a thread that ended since it was listed is skipped."""
+def _each(setter, tid: int, *args) -> bool:
+    """
+    Apply ``setter`` to thread ``tid``; return whether it was there to set.
+
+    A thread that ended since it was listed is skipped (the kernel no longer knows its id:
+    ``ProcessLookupError``); any other refusal is raised.
+    """
     try:
         setter(tid, *args)
     except ProcessLookupError:
-        pass
+        return False
+    return True
 
 
 def scheduling_text(tid: int = 0) -> str:
