@@ -12,116 +12,124 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-Collision avoidance from any start: a pair found inside its safety distance (issue 37).
+Collision avoidance from any start: a self pair found inside its safety distance (issue 37).
 
-The shipped lwr configuration plus a collision constraint with its defaults (safety 2 cm), on the
-rigid-body model: a ball is put 8 mm from the holding hand, then the hand's target is moved into
-the ball. The pair is held where it was found, never pushed apart at the constraint's deceleration
-and never let closer; the target then goes out and comes back: the floor followed the hand out,
-and the pair is held at the safety distance. Distances measured independently: coal on the URDF's own collision shapes.
+The UR5 of example-robot-data with its own SRDF at its working posture, the shipped lwr
+configuration's tasks and limits plus a collision constraint whose safety distance (4 cm) the pair
+wrist_1_link / ee_link is inside from the start (``pair_samples: 0``: the pair is kept, as before
+the pairs were chosen by sampling). The hand is sent 10 cm forward along a trajectory. Held where
+it was found, the pair does not close further, and nothing is pushed apart: no failed cycle, no
+torque step. Pushed out at the constraint's deceleration instead (the behaviour before), every
+cycle fails and the hand stays 18 cm short. Distances measured independently: coal on the URDF's
+own meshes.
 """
 
 import coal
 import numpy as np
 import orca_ros as orca
+from orca_ros.configuration.controller_builder import build_from_config
 from orca_ros.examples.common import integrate
 from orca_ros.servo.target_trajectory import CartesianTrajectory
 import pinocchio as pin
-import pytest
-from test_obstacle_updates import _lwr
+import yaml
 
 DT = 1e-3
-RADIUS = 0.05
-GAP = 0.008  # the ball's surface from the hand's collision shape at the start [m]
+Q0 = np.array([0.0, -1.2, 1.6, -1.9, -1.57, 0.0])  # the UR5's working posture (issue 37)
+SAFETY = 0.04
 CARTESIAN = {'max_velocity': [0.25, 1.0], 'max_acceleration': [1.0, 3.0],
              'max_jerk': [5.0, 15.0]}  # the node's defaults for a Cartesian task's targets
-Q0 = np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0])
 
 
-def _distance(robot):
-    """Return d(q, centre): the least distance of the URDF's collision shapes to the ball."""
-    model = robot.model
-    gm = pin.buildGeomFromUrdf(model, orca.default_urdf_path(), pin.COLLISION)
+def _ur5(example_robot_urdf, floors=True):
+    urdf = example_robot_urdf('ur_description/urdf/ur5_robot.urdf')
+    srdf = example_robot_urdf('ur_description/srdf/ur5.srdf')
+    with open(orca.share_path('config', 'lwr_controller.yaml')) as fh:
+        cfg = yaml.safe_load(fh)['orca_controller']['ros__parameters']
+    cfg.pop('base_frame')
+    cfg['urdf_path'] = urdf
+    cfg['joints'] = ['shoulder_pan_joint', 'shoulder_lift_joint', 'elbow_joint', 'wrist_1_joint',
+                     'wrist_2_joint', 'wrist_3_joint']
+    cfg['tasks']['ee']['frame'] = 'tool0'
+    cfg['tasks']['posture']['target'] = Q0.tolist()
+    cfg['constraints']['names'] = cfg['constraints']['names'] + ['collision']
+    cfg['constraints']['collision'] = {'type': 'collision_avoidance', 'srdf': srdf,
+                                       'safety_distance': SAFETY, 'pair_samples': 0}
+    setup = build_from_config(cfg)
+    col = setup.controller.get_constraint('collision')
+    if not floors:  # every pair's floor the safety distance: a pair inside is pushed out
+        col.floor_of = lambda k, d, cycle: SAFETY
+        setup.controller.compiled = False
+    return setup.robot, setup.controller, urdf
+
+
+def _wrist_distance(model, urdf):
+    share = urdf.split('/example-robot-data/')[0]
+    gm = pin.buildGeomFromUrdf(model, urdf, pin.COLLISION, package_dirs=[share])
+    names = [g.name for g in gm.geometryObjects]
+    a, b = names.index('wrist_1_link_0'), names.index('ee_link_0')
     gd, data = pin.GeometryData(gm), model.createData()
-    ball = coal.Sphere(RADIUS)
+    objects = gm.geometryObjects
 
-    def distance(q, centre):
+    def distance(q):
         pin.updateGeometryPlacements(model, data, gm, gd, q)
-        best = np.inf
-        for i, g in enumerate(gm.geometryObjects):
-            if g.parentJoint == 0:
-                continue
-            r = coal.DistanceResult()
-            coal.distance(g.geometry, coal.Transform3s(gd.oMg[i]), ball,
-                          coal.Transform3s(np.eye(3), centre), coal.DistanceRequest(), r)
-            best = min(best, r.min_distance)
-        return best
+        r = coal.DistanceResult()
+        coal.distance(objects[a].geometry, coal.Transform3s(gd.oMg[a]), objects[b].geometry,
+                      coal.Transform3s(gd.oMg[b]), coal.DistanceRequest(), r)
+        return r.min_distance
 
     return distance
 
 
-def _run(compiled):
-    robot, c = _lwr(compiled=compiled)
-    col = c.get_constraint('collision')
-    distance = _distance(robot)
-    q, v = Q0.copy(), np.zeros(7)
+def _run(example_robot_urdf, floors):
+    robot, c, urdf = _ur5(example_robot_urdf, floors)
+    distance = _wrist_distance(robot.model, urdf)
+    q, v = Q0.copy(), np.zeros(6)
     robot.set_robot_state(q, v)
-    hand = robot.get_frame_pose('link_7')
-    ee = c.get_task('ee')
-    ee.servo_controller().set_desired(hand.copy())
+    hand = robot.get_frame_pose('tool0')
+    target = hand.copy()
+    target[:3, 3] += [0.1, 0.0, 0.0]
+    servo = c.get_task('ee').servo_controller()
+    servo.set_desired(hand.copy())
     c.activate_tasks_and_constraints()
-    # the ball beside the hand (+y), its surface GAP from the hand's shape (bisection on y)
-    lo, hi = 0.0, 0.5
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if distance(q, hand[:3, 3] + [0.0, mid, 0.0]) < GAP else (lo, mid)
-    centre = hand[:3, 3] + [0.0, hi, 0.0]
-    start = distance(q, centre)
-    into, out = hand.copy(), hand.copy()
-    into[1, 3] += 0.05  # 5 cm into the ball
-    out[1, 3] -= 0.05  # 5 cm away: 58 mm from it
-    moves, path = {400: into, 1500: out, 2500: into}, CartesianTrajectory(**CARTESIAN)
-    taus, gaps, failures = [], [], 0
-    for k in range(4000):
+    path = CartesianTrajectory(**CARTESIAN)
+    path.start(0.5, hand.copy(), np.zeros(6), np.zeros(6), target)
+    taus, gaps, failures, fastest = [], [], 0, 0.0
+    for k in range(2500):
         t = k * DT
-        if k == 100:
-            pose = np.eye(4)
-            pose[:3, 3] = centre
-            col.add_obstacle('ball', 'sphere', [RADIUS], pose)
         robot.set_robot_state(q, v)
-        servo = ee.servo_controller()
-        if k in moves:  # along a trajectory, as the node moves targets
-            path.start(t, servo.get_current_cartesian_pose(), np.zeros(6), np.zeros(6),
-                       moves[k])  # (from the hand, at rest: held, it does not follow)
-        if k >= 400:
+        if t >= 0.5:
             servo.set_desired(*path.follow(t, servo.get_current_cartesian_pose()))
         failures += not c.update(t, DT)
         taus.append(c.get_joint_torque_command())
         q, v = integrate(robot, q, v, taus[-1], DT)
-        gaps.append(distance(q, centre))
+        gaps.append(distance(q))
+        fastest = max(fastest, np.abs(v).max())
+    robot.set_robot_state(q, v)
+    error = np.linalg.norm(robot.get_frame_pose('tool0')[:3, 3] - target[:3, 3])
     steps = np.abs(np.diff(np.array(taus), axis=0)).max(axis=1)
-    return start, np.array(gaps), steps, failures, col
+    return distance(Q0), np.array(gaps), steps, failures, fastest, error, c
 
 
-@pytest.mark.parametrize('compiled', [True, False], ids=['compiled', 'python'])
-def test_a_pair_found_inside_is_held_not_pushed_apart(compiled):
-    start, gaps, steps, failures, col = _run(compiled)
-    safety = col.safety_distance
-    assert abs(start - GAP) < 1e-6 and GAP < safety
+def test_a_self_pair_found_inside_is_held_not_pushed_apart(example_robot_urdf):
+    start, gaps, steps, failures, fastest, error, c = _run(example_robot_urdf, True)
+    col = c.get_constraint('collision')
+    # the pair is inside the safety distance from the start (the hulls rounded by 1 cm each)
+    assert start < SAFETY + 2 * col.geometry.rounding
+    print(f'start {start * 1e3:.2f} mm, least {gaps.min() * 1e3:.2f} mm, largest step '
+          f'{steps.max():.2f} Nm, fastest joint {fastest:.2f} rad/s, failures {failures}, '
+          f'hand {error * 1e3:.2f} mm from its target')
     assert failures == 0
-    # the ball put 8 mm away: no push (a pair pushed out at max_deceleration steps the torques
-    # by tens of Nm), and the target moved 5 cm into it: the hand stays where it was found.
-    # The rows see the hulls rounded by 1 cm (the pair is 8 mm closer there too) and stop a
-    # closing pair within one cycle's travel: the hand is let in by less than 0.1 mm
-    held = gaps[100:1500]
-    print(f'start {start * 1e3:.2f} mm, least while held {held.min() * 1e3:.3f} mm, '
-          f'largest step {steps.max():.2f} Nm, end {gaps[-1] * 1e3:.2f} mm')
-    assert held.min() > start - 1e-4
-    assert steps[90:].max() <= 2.0
-    # the target out, then into the ball again: the floor followed the hand out, and holds it
-    # at the safety distance now, between the shapes rounded by 1 cm each (the hand's and the
-    # ball's): 4 cm between the shapes themselves
-    rounded = safety + 2 * col.geometry.rounding
-    assert gaps[2400] > rounded + 0.01
-    assert gaps[2500:].min() > rounded - 1e-3 and gaps[-1] < rounded + 1e-3
-    print(f'held at {gaps[2500:].min() * 1e3:.2f} mm after it went out')
+    # held where found: the meshes no closer than at the start (the rows stop a closing pair
+    # within one cycle's travel at the hand's speeds: < 0.1 mm)
+    assert gaps.min() > start - 1e-4
+    assert steps.max() <= 2.0
+    assert fastest <= 1.5 + 1e-6  # the shipped velocity limit
+    assert error < 1e-3
+
+
+def test_the_same_start_pushed_apart_spins_the_wrist(example_robot_urdf):
+    """The counterfactual: the pair's floor at the safety distance (pushed out at A)."""
+    start, gaps, steps, failures, fastest, error, _ = _run(example_robot_urdf, False)
+    print(f'pushed out: largest step {steps.max():.2f} Nm, fastest joint {fastest:.2f} rad/s, '
+          f'failures {failures}, hand {error * 1e3:.1f} mm from its target')
+    assert failures > 1000 and error > 0.1

@@ -27,10 +27,9 @@ its acceleration-level forms). The distance is a coordinate with a lower limit
 ``safety_distance``: the viable bound of the joint limits (:mod:`.viable_bound`) keeps the next
 state able to stop before it at ``max_deceleration`` and approaches it over ``horizon``, never
 asking for more than that deceleration (obstacles move, witness points jump between features:
-a pair with a row that an obstacle jumps into is brought back at that deceleration). A pair found
-inside the safety distance when it enters the rows (a start, an obstacle put close) is held
-where it is and not let closer, its floor following it out (:meth:`floor_of`): never asked to
-jump apart. One row per
+an obstacle that jumps in is braked back out at that deceleration). A self pair found inside the
+safety distance when it enters the rows (a start) is held where it is and not let closer, its
+floor following it out (:meth:`floor_of`): never asked to jump apart. One row per
 pair, the ``max_pairs`` closest: the QP's size is fixed; unused rows are relaxed. A pair left
 out for that budget has no row, and may enter it already binding: the Panda's hand going round a
 ball (test_collision_avoidance.py) keeps ~10 pairs close to it, its hand and finger hulls; with 8
@@ -157,12 +156,12 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
             self._tell_found(current_time)
 
     def _tell_found(self, now: float) -> None:
-        """Name the pairs found inside the safety distance: held there (at most 1 line a second)."""
+        """Name the pairs found inside the safety distance, held there (1 line/s at most)."""
         if now - self._told[1] < 1.0:
             return
         self._told = (int(self.found[0]), now)
-        _LOG.warning("constraint '%s': pairs found inside the safety distance are held where they "
-                     'are, not let closer: %s', self.name, self.explain())
+        _LOG.warning("constraint '%s': self pairs found inside the safety distance are held where "
+                     'they are, not let closer: %s', self.name, self.explain())
 
     def _by_kernels(self, dt: float) -> bool:
         """Fill the rows by the kernels (the robot's terms are this state's); False: failed."""
@@ -343,17 +342,18 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         """
         Return the least distance pair ``k``, at distance ``d``, is held at this cycle; keep it.
 
-        The safety distance, or less for a pair found inside it: one that enters the rows there
-        (a start, an obstacle put close, a pair back from beyond ``max_pairs``) is held where it
-        is, not pushed apart (at up to max_deceleration: a jump the joints' limits may not allow,
-        the QP then infeasible); while it keeps its row its floor follows it out, never back in,
-        up to the safety distance. A pair with a row that an obstacle jumps into keeps its floor
-        and is braked back out (safety first). The kernels (``optim/compiled/collision.py``)
-        keep the same floors.
+        The safety distance, or less for a self pair found inside it: one that enters the rows
+        there (a start, a pair back from beyond ``max_pairs``) is held where it is, not pushed
+        apart (at up to max_deceleration: a jump the joints' limits may not allow, the QP then
+        infeasible); while it keeps its row its floor follows it out, never back in, up to the
+        safety distance. An obstacle's pairs keep the safety distance: an obstacle moves, and one
+        seen late or sparsely jumps in; it is braked back out (safety first: held where found,
+        a ball posed every few steps on a busy machine went 23 mm into the lwr's hand). The
+        kernels (``optim/compiled/collision.py``) keep the same floors.
         """
         safety = self.settings[1]
-        if d >= safety:
-            floor = safety
+        if d >= safety or not self.geometry.is_self_pair(k):
+            floor = safety  # (an obstacle: it moves, and may jump in; braked back out)
         elif self._kept_cycle[k] == cycle - 1:  # it had a row: its floor, or further out
             floor = min(max(self._floor[k], d), safety)
         else:

@@ -348,6 +348,10 @@ class CollisionGeometry:
         return tuple(self.velocities.get(objects[k].name[len('obstacle:'):])
                      if k >= self.n_robot else None for k in (i, j))
 
+    def is_self_pair(self, pair: int) -> bool:
+        """Tell whether a pair is two of the robot's bodies (else a body and an obstacle)."""
+        return self._pairs[pair][1] < self.n_robot
+
     def joints_of(self, pair: int) -> tuple[int, int]:
         objects, (i, j) = self.geom_model.geometryObjects, self._pairs[pair]
         return objects[i].parentJoint, objects[j].parentJoint

@@ -151,7 +151,7 @@ def rows(ws, n, dt, acc0):
             for c in range(row.shape[0]):
                 C[out, acc0 + c] = row[c]
             floor = safety  # (CollisionAvoidanceConstraint.floor_of)
-            if d < safety:
+            if d < safety and gb < ws.nrobot:  # a self pair (obstacles keep the safety distance)
                 if ws.kept_cycle[k] == cycle - 1:
                     floor = min(max(ws.floor[k], d), safety)
                 else:
@@ -189,8 +189,8 @@ FIELDS = (
     'oMg', 'oMi', 'vj', 'aj', 'J', 'sup', 'v_pin',
     # the geometries: joint, placement on it, bounding sphere [centre, radius] and capsule [ends,
     # radius], velocity (moving obstacles);
-    # the pairs [first, second] and how many
-    'gjoint', 'place', 'gsphere', 'gcaps', 'gvel', 'pairs', 'npairs',
+    # the pairs [first, second] and how many, the robot's geometries (the obstacles' follow)
+    'gjoint', 'place', 'gsphere', 'gcaps', 'gvel', 'pairs', 'npairs', 'nrobot',
     # per cycle: sphere centres and capsule ends, velocity fields [centre's, angular], each
     # pair's limit, the kept pairs (list and mask), what was last seen of each, coal's results,
     # their order, one row
@@ -290,7 +290,7 @@ class CollisionKernels:
         self.ws = _construct(
             oMg, views[0], views[1], views[2], data.J, sup, robot._v_pin,
             np.array(geom._joint, dtype=np.int64), geom.placement, gsphere, geom._capsule,
-            geom.velocity, pairs, npairs, np.zeros((ng, 3)), np.zeros((ng, 6)),
+            geom.velocity, pairs, npairs, geom.n_robot, np.zeros((ng, 3)), np.zeros((ng, 6)),
             np.zeros((ng, 6)), np.zeros(size), np.zeros(size, dtype=np.int64),
             self.active, self.changed, np.full((size, 25), np.nan), res,
             np.zeros(size, dtype=np.int64), np.zeros(model.nv), con._sel, con._seld,
