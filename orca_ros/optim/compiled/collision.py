@@ -161,6 +161,11 @@ def rows(ws, n, dt, acc0):
             bound = -viable_upper(d - floor, closing, A, dt, max(h, dt), False) - drift
             if ws.kept_cycle[k] == cycle - 1 and bound < ws.kept[k] - relax:
                 bound = min(ws.kept[k] - relax, A - drift)
+            cap = 0.0  # never more than the joints can give the pair (collision_avoidance's
+            for c in range(row.shape[0]):  # _capacity)
+                cap += abs(row[c]) * ws.capacity[c]
+            if bound > cap:
+                bound = cap
             lb[out] = bound
             ws.kept[k], ws.kept_cycle[k] = bound, cycle
             ws.sel[out] = k
@@ -203,6 +208,8 @@ FIELDS = (
     # its floor (the least distance it is held at), the pairs found inside their safety
     # distance (a count), and the cycle's count
     'kept', 'kept_cycle', 'floor', 'found', 'cycle',
+    # each coordinate's acceleration at its torque limit alone (a bound's cap)
+    'capacity',
     # the rows written (their count) and those of the last cycle: rows, pairs, distances
     'written', 'lastC', 'lastsel', 'lastseld',
 )
@@ -295,6 +302,7 @@ class CollisionKernels:
             self.active, self.changed, np.full((size, 25), np.nan), res,
             np.zeros(size, dtype=np.int64), np.zeros(model.nv), con._sel, con._seld,
             con.settings, con.C, con.lb, con.ub, self.counts, kept, when, floor, con.found, cycle,
+            con.capacity,
             con._written, con._lastC, con._last_sel, con._last_seld,
         )
         self._screen = entry(screen, self.ws)
