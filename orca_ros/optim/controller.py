@@ -111,8 +111,10 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin,
         self._tau_cmd = np.zeros(n)
         self._acc = np.zeros(self.layout.nv)
         self._x = np.zeros(self.layout.nx)
-        # a failed cycle's command (SolutionOutputMixin._command_safe): the node's defaults
-        self.safe_command = SafeCommand(robot, damping=10.0, ramp=0.2)
+        # a failed cycle's command (SolutionOutputMixin._command_safe): the node's defaults.
+        # None: the caller sends its own after a failed update (the node: its SafeCommand also
+        # covers stale states and holds), and a failed cycle leaves the command as it was
+        self.safe_command: SafeCommand | None = SafeCommand(robot, damping=10.0, ramp=0.2)
         # always present, always active: the equation of motion and a small regularisation
         self.global_regularisation = RegularisationTask('GlobalRegularisation')
         self.dynamics_constraint = DynamicsEquationConstraint('DynamicsEquation')

@@ -27,6 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from .solvers import ReturnCode
+from ..safety.safe_command import SafeCommand
 
 
 class SolutionOutputMixin:
@@ -39,7 +40,8 @@ class SolutionOutputMixin:
         The safe command of a failed cycle then leaves g(q) out too.
         """
         self._remove_gravity = bool(do_remove)
-        self.safe_command.gravity_by_hardware = self._remove_gravity
+        if self.safe_command is not None:
+            self.safe_command.gravity_by_hardware = self._remove_gravity
 
     def remove_coriolis_torques_from_solution(self, do_remove: bool) -> None:
         self._remove_coriolis = bool(do_remove)
@@ -85,7 +87,8 @@ class SolutionOutputMixin:
 
     def command_is_safe(self) -> bool:
         """Tell whether the command is the safe one (the last ``update`` failed)."""
-        return self._return_code is not ReturnCode.SUCCESS and self.safe_command.active
+        safe = self.safe_command
+        return self._return_code is not ReturnCode.SUCCESS and safe is not None and safe.active
 
     def set_safe_command(self, damping: float, ramp: float) -> None:
         """
@@ -100,6 +103,8 @@ class SolutionOutputMixin:
                     f"controller '{self.name}': safe command {what} must be finite and >= 0, "
                     f'got {x}'
                 )
+        if self.safe_command is None:  # (switched off by a caller with its own: on again)
+            self.safe_command = SafeCommand(self.robot, self._remove_gravity)
         self.safe_command.damping, self.safe_command.ramp = float(damping), float(ramp)
 
     def _command_safe(self, t: float, after_success: bool) -> None:
@@ -109,6 +114,8 @@ class SolutionOutputMixin:
         ``after_success``: the cycle before succeeded, the fade starts anew from its command.
         """
         safe = self.safe_command
+        if safe is None:  # the caller sends its own on a failed cycle (the node)
+            return
         if after_success:
             safe.reset()
         self._tau_cmd[:] = safe.compute_at_state(t, self._tau_cmd)

@@ -123,6 +123,9 @@ class OrcaControllerNode(
             float(param(self, 'safe_damping', 10.0)),
             float(param(self, 'safe_ramp', 0.2)),
         )
+        # the node sends this one on every fault (stale states and holds too): the core's own,
+        # after a failed update, would be computed for nothing
+        setup.controller.safe_command = None
         self._wire_of_model = setup.model_index  # model joint k -> wire slot
         self._velocity_factor = float(param(self, 'velocity_factor', 3.0))
         self._input = JointStateInput(
