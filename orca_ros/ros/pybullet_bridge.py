@@ -39,7 +39,9 @@ Watchdog (free running): without a valid command for ``command_timeout`` [0.02 s
 the bridge holds the robot like a drive would (the last command fades over ``hold_ramp`` [0.05 s]
 into gravity + damping ``hold_damping`` [20 /s], see :class:`orca_ros.safety.CommandWatchdog`),
 says so once, and applies the next command as soon as it arrives. Before the first command it holds
-too.
+too, and a floating base (``hold_base_until_command`` [true], free running) is held where it was
+placed (:class:`orca_ros.sim.BaseHold`: gravity compensation of the joints does not hold a standing
+robot up), released over ``base_release`` [0.2 s of simulated time] once the first command arrives.
 """
 
 from __future__ import annotations
@@ -69,7 +71,7 @@ from .sim_obstacles import SimObstacles
 from ..configuration import resolve_urdf_path
 from ..robot import RobotModel
 from ..safety import CommandWatchdog
-from ..sim import SimServer
+from ..sim import BaseHold, SimServer
 
 
 class PyBulletBridge(GuardedNode, SimObstacles):
@@ -164,6 +166,13 @@ class PyBulletBridge(GuardedNode, SimObstacles):
                 float(param(self, 'hold_damping', 20.0)),
                 float(param(self, 'hold_ramp', 0.05)),
             )
+        # a floating base stays where it was placed until the first command (free running)
+        self.base_hold = None
+        self.base_release = float(param(self, 'base_release', 0.2))
+        if not self.base_release >= 0.0:
+            raise ValueError(f'base_release must be >= 0 s, got {self.base_release}')
+        if self.floating and self.watchdog and bool(param(self, 'hold_base_until_command', True)):
+            self.base_hold = BaseHold(self.server, self.model)
         # start_paused: nothing moves until ~/unpause (e.g. once a recorder is listening)
         self.paused = bool(param(self, 'start_paused', False))
         self._cmd = np.zeros(len(joints))
@@ -200,6 +209,8 @@ class PyBulletBridge(GuardedNode, SimObstacles):
             f'/{controller_name}/commands'
             f"{', hardware gravity compensation' if self.hw_gravity else ''}"
         )
+        if self.base_hold is not None:
+            self.get_logger().info('holding the base at its start until the first command')
         self._publish_state()
 
     # -------------------------------------------------------------- commands and stepping
@@ -230,6 +241,12 @@ class PyBulletBridge(GuardedNode, SimObstacles):
         self._last_cmd_time = self.get_clock().now()
         if self.watchdog is not None and self.watchdog.on_command(self.server.get_time(), cmd):
             self.say('info', 'watchdog:resume', 'effort commands resumed: hold released')
+        if self.base_hold is not None:  # the first command: the base given way to it
+            self.base_hold.release(self.server.get_time(), self.base_release)
+            self.base_hold = None
+            self.get_logger().info(
+                f'first effort command: releasing the base over {self.base_release:.3g} s'
+            )
         if self.mode == 'lockstep':
             self._advance()
 

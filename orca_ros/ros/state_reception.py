@@ -148,6 +148,7 @@ class StateReception:
             self._have_state = True
             self._apply_state()
             self.get_logger().info('first joint state received: control starts')
+            self.start_configured_targets()  # far targets along trajectories, not as steps
         if self.trigger == 'joint_state':
             # lockstep: one step per simulated instant, once joint state (and odom) of that instant
             # are in

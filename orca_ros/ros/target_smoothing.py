@@ -25,11 +25,19 @@ servo as they are. Holding, resetting or expiring a target stops the trajectory.
 [0.2 s]: the reference never leads the measured state by more than it covers in this time at
 ``max_velocity``; beyond, it restarts on that leash (see :mod:`orca_ros.servo.target_trajectory`),
 and the log says so (WARN, at most once a second per task).
+
+Configured targets (``target_position`` of a Cartesian task, ``target`` of a joint task) are set
+before the robot is seen. At the first state (:meth:`TargetSmoothing.start_configured_targets`),
+one the robot is far from (beyond half the lead bound, where a running trajectory counts as not
+followed: 2.5 cm or 0.1 rad with the Cartesian defaults) becomes a trajectory from the measured
+state instead of a step (a step of d asks kp d of acceleration at once, beyond what contacts and
+torques give for a lying robot's trunk), said once (WARN). Nearer, it stays a step, as before.
 """
 
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 
 from ..servo.target_trajectory import CartesianTrajectory, JointTrajectory, MAX_LEAD
 from ..task import CartesianTask, JointAccelerationTask
@@ -46,6 +54,12 @@ class TargetSmoothing:
     def setup_trajectories(self, task_config: dict) -> None:
         self.trajectories: dict = {}
         self._running: set[str] = set()
+        # tasks whose configuration gives a target (start_configured_targets)
+        self._configured = [
+            name for name, task in self.setup.tasks.items()
+            if ('target_position' if isinstance(task, CartesianTask) else 'target')
+            in (task_config.get(name) or {})
+        ]
         for name, task in self.setup.tasks.items():
             cfg = dict((task_config.get(name) or {}).get('trajectory') or {})
             if not cfg.pop('enabled', True):
@@ -88,6 +102,44 @@ class TargetSmoothing:
         gen.start(t, *start, target)
         self._running.add(name)
         return True
+
+    def start_configured_targets(self) -> None:
+        """
+        At the first state: configured targets the robot is far from become trajectories.
+
+        Far: beyond half the lead bound (see the module); the log says how far, once per task.
+        The robot state must be applied to the model.
+        """
+        for name in self._configured:
+            gen = self.trajectories.get(name)
+            task = self.setup.tasks[name]
+            if gen is None:
+                continue
+            if isinstance(task, CartesianTask):
+                servo = task.servo_controller()
+                target = servo.get_desired()[0]
+                pose = servo.get_current_cartesian_pose()
+                lin = float(np.linalg.norm(target[:3, 3] - pose[:3, 3]))
+                ang = float(np.linalg.norm(pin.log3(target[:3, :3] @ pose[:3, :3].T)))
+                far = max(lin / gen.lead[0], ang / gen.lead[1]) > 0.5
+                how = f'{lin * 1e2:.0f} cm and {np.degrees(ang):.0f} deg'
+            else:
+                target = task.get_desired()[0]
+                gap = np.abs(target - self._q)
+                far = bool((gap / gen.lead > 0.5).any())
+                how = f'{gap.max():.2f} rad (a joint)'
+            try:
+                smoothed = far and self.smooth_target(name, target)
+            except ValueError as exc:  # no trajectory there (Ruckig): the step, as before
+                self.say('error', f'start:{name}', f"task '{name}': {exc}; its target is a step")
+                continue
+            if smoothed:
+                self.say(
+                    'warning',
+                    f'start:{name}',
+                    f"task '{name}': starting {how} from its target: moved there along its "
+                    'trajectory',
+                )
 
     def stop_trajectory(self, name: str) -> None:
         self._running.discard(name)

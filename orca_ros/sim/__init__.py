@@ -13,6 +13,7 @@
 # limitations under the License.
 """PyBullet stand-in for robot hardware (no ROS)."""
 
+from .base_hold import BaseHold
 from .contacts import ContactPoint
 from .joint_map import JointMap
 from .sim_model import SimModel
@@ -20,6 +21,7 @@ from .sim_server import SimServer
 from ..robot.urdf_text import replace_collisions_with_boxes, resolve_package_uris
 
 __all__ = [
+    'BaseHold',
     'ContactPoint',
     'JointMap',
     'replace_collisions_with_boxes',
