@@ -208,9 +208,10 @@ def left_out(model, gm, postures=(), samples: int = SAMPLES, seed: int = _SEED,
 def remove_pairs(model, gm, pairs) -> None:
     """Remove from ``gm`` every geometry pair of the given link pairs (either order)."""
     gone = {frozenset(p) for p in pairs}
-    for p in list(gm.collisionPairs):
-        if frozenset(link_pair(model, gm, p)) in gone:
-            gm.removeCollisionPair(p)
+    doomed = [(p.first, p.second) for p in gm.collisionPairs   # (copied first: the pairs
+              if frozenset(link_pair(model, gm, p)) in gone]       # shift as some are removed)
+    for first, second in doomed:
+        gm.removeCollisionPair(pin.CollisionPair(first, second))
 
 
 def summary(left: dict[tuple[str, str], str], kept: int) -> str:
