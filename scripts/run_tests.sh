@@ -17,7 +17,7 @@ fi
 # the compiled cycle's kernels into their disk cache first: no test's timing includes a cold compile
 python -m orca_ros.optim.compiled.warm
 set +e
-python -m pytest -q test "$@"
+python -m pytest -q --durations=40 test "$@"
 rc=$?
 set -e
 # pytest exits 5 when it collected no test: that is a failure of the suite, say so clearly

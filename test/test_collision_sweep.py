@@ -72,10 +72,10 @@ def test_the_ball_and_the_arm_are_kept_apart(sweep, name):
     least = sweep.SAFETY - sweep.TOLERANCE
     for i, p in enumerate(placements):
         r, without = bench.run(p, True), bench.run(p, False)
-        print(f'{name} {i}: {r["failures"]} failed cycles, ball {r["ball"] * 1e3:.1f} mm '
-              f'(without the constraint {without["ball"] * 1e3:.1f}), self '
-              f'{r["self"] * 1e3:.1f} mm, largest step {r["step"]:.2f} Nm, hand '
-              f'{r["error"] * 1e3:.1f} mm from its target {r["holds"]}')
+        print('%s %d: %d failed cycles, ball %.1f mm (without the constraint %.1f), self %.1f mm, '
+              'largest step %.2f Nm, hand %.1f mm from its target %s'
+              % (name, i, r['failures'], r['ball'] * 1e3, without['ball'] * 1e3, r['self'] * 1e3,
+                 r['step'], r['error'] * 1e3, r['holds']))
         assert r['failures'] == 0, r['why']
         assert r['ball'] >= least
         assert r['self'] >= least
@@ -87,8 +87,8 @@ def test_a_hand_target_inside_its_own_base(sweep, name):
     """The hand sent inside its base column: no failed cycle, its watched pairs kept apart."""
     bench = _bench(sweep, name)
     r = bench.run(bench.inside(), True)
-    print(f'{name}: {r["failures"]} failed cycles, self {r["self"] * 1e3:.1f} mm '
-          f'({bench.meshes.name(r["self_pair"])}), hand {r["error"] * 1e3:.0f} mm short; '
-          f'{r["summary"]}')
+    print('%s: %d failed cycles, self %.1f mm (%s), hand %.0f mm short; %s'
+          % (name, r['failures'], r['self'] * 1e3, bench.meshes.name(r['self_pair']),
+             r['error'] * 1e3, r['summary']))
     assert r['failures'] == 0, r['why']
     assert r['self'] >= sweep.SAFETY - sweep.TOLERANCE
