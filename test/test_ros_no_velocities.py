@@ -25,7 +25,10 @@ from orca_ros.ros.launch_free import free_domain_id, Procs
 from orca_ros.ros.probe import Probe
 import pytest
 
-TARGET = [0.45, -0.2, 0.55]
+# 29 cm from the hand at the lockstep start (the posture), at its orientation: a configured target
+# the controller moves to along its trajectory (1.5 s), a straight line clear of the arm
+TARGET = [-0.45, -0.2, 0.45]
+RPY = [3.14159, -0.84159, 3.14159]
 
 
 def _run(tmp_path, velocities: bool):
@@ -36,7 +39,7 @@ def _run(tmp_path, velocities: bool):
     procs.start_arm(
         'lockstep',
         controller_args=('-p', f'tasks.ee.target_position:={TARGET}',
-                         '-p', 'tasks.ee.target_rpy:=[3.14159, 0.0, 0.0]'),
+                         '-p', f'tasks.ee.target_rpy:={RPY}'),
         bridge_args=('-p', 'stop_time:=3.0', '-p', f'publish_velocities:={velocities}'),
     )
     probe = Probe(domain)
