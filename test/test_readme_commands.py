@@ -63,7 +63,7 @@ def test_the_two_commands_are_the_scripts_entry_points():
     with open(os.path.join(ROOT, 'scripts', 'run_demo.sh')) as fh:
         assert 'python -m orca_ros.ros.main_job "$@"' in fh.read()
     with open(os.path.join(ROOT, 'scripts', 'run_tests.sh')) as fh:
-        assert 'python -m pytest -q test "$@"' in fh.read()
+        assert 'python -m pytest -q --durations=40 test "$@"' in fh.read()
     with open(os.path.join(ROOT, 'test', 'test_ros_main_job.py')) as fh:
         assert "'-m', 'orca_ros.ros.main_job'" in fh.read()
 
