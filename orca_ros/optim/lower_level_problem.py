@@ -122,6 +122,11 @@ class LowerLevelProblem(WeightedProblem):
         self._lboxb = np.zeros(nx)
         self._uboxb = np.zeros(nx)
         self.banded_backend = None
+        # GENERALIZED: the locked rows made orthonormal, which the banded form bounds (set by
+        # orthonormal_lock_rows, each cycle before lock(); None: the rows as they are)
+        self.band_rows: np.ndarray | None = None
+        self.reference_x: np.ndarray | None = None  # every priority 0: the solution (bands())
+        self._Q = np.zeros((n_lock, nx))
         # temporal damping per variable, in the solver's units (wrenches in the robot's weight)
         self._damp_w = 1.0 / np.square(scale)
         # temporal damping mu W ||x - x_prev||^2 (see set_temporal_damping); x_prev: this level's
@@ -167,20 +172,42 @@ class LowerLevelProblem(WeightedProblem):
     def _make_backend(self):
         return None  # the level's own back-ends are made in __init__ (strict / banded forms)
 
+    def orthonormal_lock_rows(self) -> np.ndarray:
+        """
+        Make ``band_rows`` this cycle's locked rows, orthonormal (:func:`orthonormalise_locks`).
+
+        The rows of the GENERALIZED strategy's bands (see :mod:`.generalized`): each row of a
+        task, less its part along the rows before it, made a unit row (zero where it depends on
+        them). Call before :meth:`lock`; the strict form is unchanged.
+        """
+        k, Q = 0, self._Q
+        for t in self.locked:
+            m = t.rows()
+            if t.get_effective_weight() > 0.0:
+                np.multiply(t.E, t.selection[:, None], out=Q[k: k + m])
+            else:
+                Q[k: k + m] = 0.0
+            k += m
+        orthonormalise_locks(Q)
+        self.band_rows = Q
+        return Q
+
     def lock(self, x_above: np.ndarray, band: np.ndarray | None = None) -> None:
         """
         Keep the locked rows at their value at x_above.
 
-        Exactly (band None or all zero: the strict form) or to +-band (the banded form).
+        Exactly (band None or all zero: the strict form) or to +-band (the banded form, on the
+        rows ``band_rows`` where they are set, else on the rows as they are).
 
         A locked task that is ramping in or out (activation factor rho in (0, 1)) is released
-        progressively: its rows get the band  (1 - rho) / rho * (|s E x_above| + |s f| + 1),  0
-        when fully active and growing without bound as the task fades, so that switching a
-        higher-level task off (or on) moves the levels below continuously instead of dropping (or
-        imposing) a lock at once.
+        progressively: its rows get the band  (1 - rho) / rho * (|s E x_above| + |s f| + 1)  (on
+        orthonormal rows q: (1 - rho) / rho * (|q . x_above| + 1)),  0 when fully active and
+        growing without bound as the task fades, so that switching a higher-level task off (or
+        on) moves the levels below continuously instead of dropping (or imposing) a lock at once.
         """
         super().lock(x_above)
         self.x_ref[:] = x_above
+        Q = self.band_rows
         k = 0
         for t in self.locked:
             m = t.rows()
@@ -188,10 +215,14 @@ class LowerLevelProblem(WeightedProblem):
             if 0.0 < rho < 1.0 and t.get_effective_weight() > 0.0:
                 if band is None:
                     band = np.zeros(self.lock_rows())
-                lock_value = self.b[
-                    self.n_eq_constraints + k: self.n_eq_constraints + k + m
-                ]  # s E x_above
-                scale = (np.abs(lock_value) + np.abs(t.selection * t.f) + 1.0) * (t.selection > 0)
+                if Q is None:
+                    lock_value = self.b[
+                        self.n_eq_constraints + k: self.n_eq_constraints + k + m
+                    ]  # s E x_above
+                    scale = (np.abs(lock_value) + np.abs(t.selection * t.f) + 1.0) * (
+                        t.selection > 0)
+                else:
+                    scale = np.abs(Q[k: k + m] @ x_above) + 1.0
                 np.maximum(band[k: k + m], (1.0 - rho) / rho * scale, out=band[k: k + m])
             k += m
         if band is not None and not np.any(band > 0.0):
@@ -202,6 +233,12 @@ class LowerLevelProblem(WeightedProblem):
     def solve(self) -> ReturnCode:
         if not math.isfinite(self.H.sum() + self.g.sum()):
             self.return_code = ReturnCode.NON_FINITE_PROBLEM
+            return self.return_code
+        if self.band is not None and self.reference_x is not None:  # (GENERALIZED, alpha 0)
+            np.copyto(self.x, self.reference_x)
+            if self.temporal_damping > 0.0:
+                self._prev_ok[0] = 1
+            self.return_code = ReturnCode.SUCCESS
             return self.return_code
         mu = self.temporal_damping * self.damping_scale
         # the first cycle (or after a failure): towards the level above's solution, so that a
@@ -260,7 +297,7 @@ class LowerLevelProblem(WeightedProblem):
         if n_in:
             self._Cb[:n_in] = self.C
             self._relaxed(self.l, self.u, self.C @ self.x_ref, self._lb[:n_in], self._ub[:n_in])
-        self._Cb[n_in:] = self.A[ne:]
+        self._Cb[n_in:] = self.A[ne:] if self.band_rows is None else self.band_rows
         np.negative(self.band, out=self._lb[n_in:])
         self._ub[n_in:] = self.band
         self._relaxed(self.lbox, self.ubox, self.x_ref, self._lboxb, self._uboxb)

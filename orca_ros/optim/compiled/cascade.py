@@ -272,6 +272,9 @@ class CompiledCascade:
                     code = ref._cold(cap - it_ref)  # once more, cold
             if code is _SUCCESS and lev.bands(lev.state):
                 p.band = lev.band
+                if L.weighted(lev.state):  # the reference is the solution (as the kernel's)
+                    np.copyto(p.x, lev.ref_x)
+                    return _SUCCESS
                 return _budget(banded, deadline, max_iterations).solve_bound()
             return _budget(strict, deadline, max_iterations).solve_bound()
         back = _budget(banded if stage == L.S_BANDED else strict, deadline, max_iterations)

@@ -250,23 +250,70 @@ def prepare_and_solve(s, solve_state, mask, deadline, most, least, timing, clock
 
 
 @njit
+def _orthonormal_rows(M, r0, r1, nx, kept):
+    """
+    Rows [r0, r1) of M orthonormal in place, as ``orthonormalise_locks``' (the reference path's).
+
+    Modified Gram-Schmidt in row order against the rows kept so far; a row below LOCK_RANK_TOL
+    of the largest becomes zero. Rows that are zero (the unselected components' rows: half of a
+    Cartesian position task's) are passed over, not projected: the same rows, less work.
+    ``kept``: a scratch of r1 - r0 entries (1.0 where a row was kept).
+    """
+    top = 0.0
+    for r in range(r0, r1):
+        n = 0.0
+        for a in range(nx):
+            n += M[r, a] * M[r, a]
+        top = max(top, n)
+        kept[r - r0] = 0.0
+    tol = LOCK_RANK_TOL * math.sqrt(top)
+    for r in range(r0, r1):
+        n = 0.0
+        for a in range(nx):
+            n += M[r, a] * M[r, a]
+        if n == 0.0:
+            continue
+        for q in range(r0, r):
+            if kept[q - r0] == 0.0:
+                continue
+            c = 0.0
+            for a in range(nx):
+                c += M[r, a] * M[q, a]
+            for a in range(nx):
+                M[r, a] -= c * M[q, a]
+        n = 0.0
+        for a in range(nx):
+            n += M[r, a] * M[r, a]
+        n = math.sqrt(n)
+        if n > tol and n > 0.0:
+            for a in range(nx):
+                M[r, a] /= n
+            kept[r - r0] = 1.0
+        else:
+            for a in range(nx):
+                M[r, a] = 0.0
+
+
+@njit
 def bands(s):
     """
     Bands of the lock rows from the reference's solution; the banded form when one is open.
 
-    band = (1 - alpha)^2 |lock row . (x_w - x_above)| (a switched-off task's rows are zero);
-    returns how many bands are open (0: the strict form stands, as for the reference path's
-    band None).
+    The lock rows made orthonormal in Mb (Gram-Schmidt in row order, as the strict form's:
+    ``GeneralizedPriorities.bands``), band = (1 - alpha)^2 |row . (x_w - x_above)| (a
+    switched-off task's rows are zero); returns how many bands are open (0: the strict form
+    stands, as for the reference path's band None).
     """
     nx, nc, ni = s.nx, s.nc, s.ni
     x_above, ref_x, keep, band, Mb = s.x_above, s.ref_x, s.keep, s.band, s.Mb
     nl = band.shape[0]
     ne = nc + nl
+    _orthonormal_rows(Mb, nc + ni, nc + ni + nl, nx, band)  # (band: its scratch, then below)
     n_open = 0
     for j in range(nl):
         v = 0.0
         for a in range(nx):
-            v += Mb[nc + ni + j, a] * (ref_x[a] - x_above[a])  # the lock rows as prepared
+            v += Mb[nc + ni + j, a] * (ref_x[a] - x_above[a])
         band[j] = keep[j] * abs(v)
         if band[j] > 0.0:
             n_open += 1
@@ -283,13 +330,22 @@ def bands(s):
             Mb[nc + i, a] = M[ne + i, a]
         lob[nx + nc + i] = lo[nx + ne + i]
         hib[nx + nc + i] = hi[nx + ne + i]
-    for j in range(nl):  # (Mb's lock rows: written by prepare)
+    for j in range(nl):  # (Mb's lock rows: written by prepare, made orthonormal above)
         lob[nx + nc + ni + j] = -band[j]
         hib[nx + nc + ni + j] = band[j]
     for a in range(nx):
         lob[a] = lo[a]
         hib[a] = hi[a]
     return n_open
+
+
+@njit
+def weighted(s):
+    """Whether every priority over the level is 0 (every band share 1)."""
+    for j in range(s.keep.shape[0]):
+        if s.keep[j] != 1.0:
+            return False
+    return True
 
 
 #: prepare_and_solve_generalized's stages: not prepared, the reference not solved, the banded
@@ -322,7 +378,11 @@ def prepare_and_solve_generalized(s, ref, banded, strict, deadline, most, least,
     if flag > 0:
         if bands(s) > 0:
             stage = S_BANDED
-            flag, it = K.solve(banded, UPDATE_ALL, cap)
+            if weighted(s):  # the reference is the solution (GeneralizedPriorities.bands)
+                for a in range(s.nx):
+                    s.x[a] = s.ref_x[a]
+            else:
+                flag, it = K.solve(banded, UPDATE_ALL, cap)
         else:
             stage = S_STRICT
             strict_form(s)
