@@ -191,3 +191,38 @@ def test_the_constraint_logs_its_pairs_once(example_robot_urdf, tmp_path, monkey
     assert col.geometry.left_out[('wrist_1_link', 'ee_link')] == 'never'
     with pytest.raises(ValueError, match='pair_samples'):
         orca.CollisionAvoidanceConstraint('bad', pair_samples=-1)
+
+
+def test_meshes_named_relative_to_their_urdf_load_from_any_directory(tmp_path, monkeypatch):
+    """
+    pybullet_data's iiwa names its meshes ``meshes/link_0.stl``: relative to the URDF.
+
+    Coal reads a bare name from the working directory; the constraint resolves it against the
+    URDF's directory, so the arm's eight links get their own meshes wherever the program runs.
+    Each mesh's hull holds every vertex of that mesh file (read here with coal on its own).
+    """
+    pybullet_data = pytest.importorskip('pybullet_data')
+    import os
+
+    urdf = os.path.join(pybullet_data.getDataPath(), 'kuka_iiwa', 'model.urdf')
+    names = [m.get('filename') for m in ET.parse(urdf).getroot().iter('mesh')
+             if m.get('filename', '').endswith('.stl')]
+    assert names and not any(os.path.isabs(n) for n in names)  # relative, as shipped
+    monkeypatch.chdir(tmp_path)  # where none of them is
+    assert not any(os.path.exists(n) for n in names)
+    robot = orca.RobotModel()
+    robot.load_model_from_file(urdf)
+    geometry = CollisionGeometry(robot, samples=0, cache=False)
+    objects = geometry.geom_model.geometryObjects
+    assert geometry.n_robot == len(objects) == 8
+    loader = coal.MeshLoader()
+    for obj in objects:
+        assert os.path.isabs(obj.meshPath) and os.path.dirname(obj.meshPath).endswith('meshes')
+        mesh = loader.load(obj.meshPath, obj.meshScale)
+        vertices = np.asarray(mesh.vertices())
+        # the constraint's hull (of the same mesh) contains every vertex: support function
+        hull = obj.geometry
+        hull_points = np.asarray(hull.points())
+        for direction in np.eye(3).tolist() + (-np.eye(3)).tolist():
+            d = np.asarray(direction)
+            assert (hull_points @ d).max() >= (vertices @ d).max() - 1e-9

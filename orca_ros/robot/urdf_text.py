@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-URDF text made loadable by PyBullet: ``package://`` paths resolved, collision shapes swapped.
+URDF text made loadable by any reader: file names resolved, collision shapes swapped.
 
 PyBullet does not know ROS packages: a description such as example-robot-data's Talos names
 its meshes ``package://example-robot-data/...`` and PyBullet loads it without them. And a dynamic
@@ -28,6 +28,7 @@ import os
 import xml.etree.ElementTree as ET
 
 _SCHEME = 'package://'
+_FILE = 'file://'
 
 
 def package_directory(package: str, urdf_path: str, package_dirs=None) -> str | None:
@@ -51,22 +52,39 @@ def package_directory(package: str, urdf_path: str, package_dirs=None) -> str | 
 
 def resolve_package_uris(text: str, urdf_path: str, package_dirs=None) -> str:
     """
-    Replace every ``package://name/rest`` file name (meshes, textures) by an absolute path.
+    Replace every file name the URDF gives (meshes, textures) by an absolute path.
+
+    ``package://name/rest``: in the package's directory (:func:`package_directory`);
+    ``file://path`` and a bare path: as they are when absolute, else relative to the URDF's own
+    directory (``urdf_path``; a URDF given as text only, ``urdf_path`` empty, keeps a relative
+    name, which then means the working directory, as for any program reading it). URDF readers
+    differ here (PyBullet reads a bare name relative to the URDF, Pinocchio and coal relative to
+    the working directory), so the name is made absolute once for all of them: pybullet_data's
+    iiwa names its meshes ``meshes/link_0.stl``.
 
     Raises ValueError naming a package that cannot be found.
     """
     root = ET.fromstring(text)
+    here = os.path.dirname(os.path.abspath(urdf_path)) if urdf_path else None
     for element in root.iter():  # meshes, and the textures of materials
         name = element.get('filename', '')
-        if not name.startswith(_SCHEME):
+        if not name:
             continue
-        package, _, rest = name[len(_SCHEME):].partition('/')
-        base = package_directory(package, urdf_path, package_dirs)
-        if base is None:
-            raise ValueError(
-                f"URDF '{urdf_path}': package '{package}' not found (pass package_dirs)"
-            )
-        element.set('filename', os.path.join(base, rest))
+        if name.startswith(_SCHEME):
+            package, _, rest = name[len(_SCHEME):].partition('/')
+            base = package_directory(package, urdf_path, package_dirs)
+            if base is None:
+                raise ValueError(
+                    f"URDF '{urdf_path}': package '{package}' not found (pass package_dirs)"
+                )
+            element.set('filename', os.path.join(base, rest))
+            continue
+        path = name[len(_FILE):] if name.startswith(_FILE) else name
+        if '://' in path:  # another scheme (http://...): left to the reader
+            continue
+        if not os.path.isabs(path) and here is not None:
+            path = os.path.join(here, path)
+        element.set('filename', path)
     return ET.tostring(root, encoding='unicode')
 
 
