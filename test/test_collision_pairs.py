@@ -226,3 +226,38 @@ def test_meshes_named_relative_to_their_urdf_load_from_any_directory(tmp_path, m
         for direction in np.eye(3).tolist() + (-np.eye(3)).tolist():
             d = np.asarray(direction)
             assert (hull_points @ d).max() >= (vertices @ d).max() - 1e-9
+
+
+def test_a_pair_the_kinematics_keep_within_the_safety_distance_is_left_out_as_near(
+        tmp_path, monkeypatch):
+    """
+    The iiwa's link 5 and flange link 7: within 3 cm of each other in 95 % of the postures.
+
+    The constraint could only hold the arm still where it finds them; left out as ``near`` at a
+    safety distance of 3 cm (as MoveIt's ``Always`` in the SRDF written), watched without one.
+    What decides is the sampled distance within which 95 % of the postures lie, recomputed here
+    from the cache file's share and distance.
+    """
+    pybullet_data = pytest.importorskip('pybullet_data')
+    import json
+    import os
+
+    monkeypatch.setenv('XDG_CACHE_HOME', str(tmp_path))
+    urdf = os.path.join(pybullet_data.getDataPath(), 'kuka_iiwa', 'model.urdf')
+    robot = orca.RobotModel()
+    robot.load_model_from_file(urdf)
+    pair = ('lbr_iiwa_link_5', 'lbr_iiwa_link_7')
+    watched = CollisionGeometry(robot)  # no safety distance: sampled and cached
+    assert pair not in watched.left_out
+    (cache,) = list((tmp_path / 'orca_ros' / 'collision_pairs').iterdir())
+    share, within = json.loads(cache.read_text())['\n'.join(pair)]
+    assert 0.0 < share < collision_pairs.ALWAYS and 0.0 < within < 0.03
+    near = CollisionGeometry(robot, near=0.03)  # from the cache
+    assert near.left_out[pair] == 'near' and 'near (1): lbr_iiwa_link_5/lbr_iiwa_link_7' in \
+        near.pair_summary
+    assert set(watched.left_out.items()) < set(near.left_out.items())
+    text = collision_pairs.srdf_text('iiwa', near.left_out)
+    assert '<disable_collisions link1="lbr_iiwa_link_5" link2="lbr_iiwa_link_7" ' \
+           'reason="Always"/>' in text
+    # below the pair's sampled distance it is watched again
+    assert pair not in CollisionGeometry(robot, near=0.5 * within).left_out

@@ -285,7 +285,8 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         self.capacity = _capacity(robot)
         if self.geometry is None or self.geometry.model is not robot.model:
             self.geometry = CollisionGeometry(robot, self.srdf, self.package_dirs,
-                                              samples=self.pair_samples)
+                                              samples=self.pair_samples,
+                                              near=self.safety_distance)
             _LOG.info("constraint '%s': %s", self.name, self.geometry.pair_summary)
             for name, args in self._pending.items():
                 self.geometry.add_obstacle(name, *args)

@@ -135,7 +135,7 @@ def _bounding_capsule(geometry) -> np.ndarray:
 
 class CollisionGeometry:
     def __init__(self, robot, srdf: str | None = None, package_dirs=None, rounding: float = 0.01,
-                 samples: int = collision_pairs.SAMPLES, cache: bool = True):
+                 samples: int = collision_pairs.SAMPLES, cache: bool = True, near: float = 0.0):
         """
         Load the robot's collision geometry and its pairs.
 
@@ -144,8 +144,9 @@ class CollisionGeometry:
         not resolve; ``rounding``: every body is inflated by this radius (coal's swept sphere), so
         that its surface, and the normal of a pair, move continuously as the closest features
         change (on a polyhedral hull the normal jumps from facet to facet); ``samples``: postures
-        sampled to leave out the pairs never or always in contact (:mod:`.collision_pairs`, 0:
-        none; ``cache``: their cache file used).
+        sampled to leave out the pairs never or always in contact, or always within ``near`` (the
+        safety distance of the constraint; :mod:`.collision_pairs`; 0: none), ``cache``: their
+        cache file used).
         """
         self.rounding = float(rounding)
         model = robot.model
@@ -176,7 +177,8 @@ class CollisionGeometry:
         self.left_out = {tuple(sorted(p)): 'disabled' for p in
                          links - {frozenset(p) for p in kept}}
         start = [robot.get_configuration()] if robot.is_initialized() else []
-        self.left_out.update(collision_pairs.left_out(model, gm, start, samples, cache=cache))
+        self.left_out.update(collision_pairs.left_out(model, gm, start, samples, cache=cache,
+                                                      near=near))
         collision_pairs.remove_pairs(model, gm, self.left_out)
         #: one line: the link pairs watched and those left out, by reason
         self.pair_summary = collision_pairs.summary(

@@ -24,6 +24,11 @@ A robot's own pairs fall into four kinds the collision constraint must not watch
   exclude it at their middle) or at the start posture: parts that touch by design, or a start
   the constraint cannot honour;
 * ``always``: in contact in at least :data:`ALWAYS` of the sampled postures;
+* ``near``: within the constraint's safety distance in at least :data:`ALWAYS` of the sampled
+  postures (not in contact): the kinematics hold the links that close, the constraint could only
+  hold the robot still where it finds them (an iiwa's link 5 and flange link 7 hulls, 11 mm
+  apart or less in 95 % of the postures: watched at a 3 cm safety distance, the pair's row asked
+  for separations its joints' velocity limits did not allow, and every cycle failed);
 * ``never``: in contact in none of the sampled postures: the kinematics keep the links apart (a
   UR5's tool flange block and its first wrist link are 2-3 cm apart and cannot meet; watched, the
   pair held the wrist still from the start).
@@ -36,7 +41,8 @@ further, :mod:`orca_ros.constraint.collision_avoidance`). The postures are unifo
 joint limits (unbounded angles within [-pi, pi]), seeded: the same robot gives the same pairs.
 ``disabled`` (an SRDF's ``disable_collisions``) comes first and is not sampled again.
 
-Sampling :data:`SAMPLES` postures takes a second or more; the sampled kinds are kept in a cache
+Sampling :data:`SAMPLES` postures takes a second or more; per link pair, the share of the samples
+in contact and the distance within which :data:`ALWAYS` of them lie are kept in a cache
 file per robot geometry (``$XDG_CACHE_HOME/orca_ros`` or ``~/.cache/orca_ros``), keyed by the
 geometry's shapes, placements, joints, limits and the sampling's settings. :func:`srdf_text`
 writes the left-out pairs as an SRDF for the user to review and pass as ``srdf`` (``python -m
@@ -59,7 +65,7 @@ SAMPLES = 10000
 #: a pair in contact in at least this share of the samples is always in contact (MoveIt's)
 ALWAYS = 0.95
 _SEED = 0
-_VERSION = 1  # of the cache files' content
+_VERSION = 2  # of the cache files' content
 
 
 def link_of(model, geometry) -> str:
@@ -107,6 +113,13 @@ def _contacts(model, data, gm, gd, q) -> np.ndarray:
                        count=len(gm.collisionPairs))
 
 
+def _distances(model, data, gm, gd, q) -> np.ndarray:
+    """Return, per geometry pair of ``gm``, its distance at ``q`` (< 0: in contact, by as much)."""
+    pin.computeDistances(model, data, gm, gd, q)
+    return np.fromiter((r.min_distance for r in gd.distanceResults), dtype=float,
+                       count=len(gm.collisionPairs))
+
+
 def _key(model, gm, samples: int, seed: int) -> str:
     """Return a digest of what the sampled kinds depend on (the cache file's name)."""
     h = hashlib.sha256()
@@ -137,58 +150,76 @@ def _cache_dir() -> str:
     return os.path.join(base, 'orca_ros', 'collision_pairs')
 
 
-def sampled_kinds(model, gm, samples: int = SAMPLES, seed: int = _SEED,
-                  cache: bool = True) -> dict[tuple[str, str], str]:
+def sampled(model, gm, samples: int = SAMPLES, seed: int = _SEED,
+            cache: bool = True) -> dict[tuple[str, str], tuple[float, float]]:
     """
-    Return {(link, link): 'always' | 'never'} over the pairs of ``gm``, by link.
+    Return {(link, link): (share in contact, distance)} over the pairs of ``gm``, by link.
 
-    A link pair is in contact in a sample when any of its geometry pairs is. From the cache file
-    when one matches (see the module), else sampled and written there (best effort).
+    A link pair's distance in a sample is the least of its geometry pairs'; ``share``: of the
+    samples where it is <= 0; ``distance``: the one :data:`ALWAYS` of the samples are within.
+    From the cache file when one matches (see the module), else sampled and written there (best
+    effort).
     """
     path = os.path.join(_cache_dir(), _key(model, gm, samples, seed) + '.json') if cache else None
     if path is not None and os.path.isfile(path):
         try:
             with open(path) as fh:
-                return {tuple(k.split('\n')): v for k, v in json.load(fh).items()}
-        except (OSError, ValueError):
+                return {tuple(k.split('\n')): tuple(v) for k, v in json.load(fh).items()}
+        except (OSError, ValueError, TypeError):
             pass
     links = [link_pair(model, gm, p) for p in gm.collisionPairs]
     names = sorted(set(links))
     index = np.array([names.index(pair) for pair in links], dtype=int)
-    counts = np.zeros(len(names), dtype=int)
+    least = np.full((samples, len(names)), np.inf)
     data, gd = model.createData(), pin.GeometryData(gm)
     lo, hi = _limits(model)
     pin.seed(seed)
-    for _ in range(samples):
-        touching = np.zeros(len(names), dtype=bool)
-        touching[index[_contacts(model, data, gm, gd, pin.randomConfiguration(model, lo, hi))]] \
-            = True
-        counts += touching
-    kinds = {}
-    for pair, n in zip(names, counts.tolist()):
-        if n == 0:
-            kinds[pair] = 'never'
-        elif n >= ALWAYS * samples:
-            kinds[pair] = 'always'
+    for k in range(samples):
+        d = _distances(model, data, gm, gd, pin.randomConfiguration(model, lo, hi))
+        np.minimum.at(least[k], index, d)
+    out = {}
+    if samples > 0:
+        share = (least <= 0.0).mean(axis=0)
+        within = np.quantile(least, ALWAYS, axis=0)
+        out = {pair: (float(a), float(b)) for pair, a, b in zip(names, share, within)}
     if path is not None:
         try:
             os.makedirs(os.path.dirname(path), exist_ok=True)
             tmp = f'{path}.{os.getpid()}'
             with open(tmp, 'w') as fh:
-                json.dump({'\n'.join(k): v for k, v in kinds.items()}, fh)
+                json.dump({'\n'.join(k): v for k, v in out.items()}, fh)
             os.replace(tmp, path)
         except OSError:
             pass
+    return out
+
+
+def sampled_kinds(model, gm, samples: int = SAMPLES, seed: int = _SEED, cache: bool = True,
+                  near: float = 0.0) -> dict[tuple[str, str], str]:
+    """
+    Return {(link, link): 'always' | 'near' | 'never'} over the pairs of ``gm``, by link.
+
+    ``near``: the safety distance (0: no pair is ``near``). See the module and :func:`sampled`.
+    """
+    kinds = {}
+    for pair, (share, within) in sampled(model, gm, samples, seed, cache).items():
+        if share == 0.0:
+            kinds[pair] = 'never'
+        elif share >= ALWAYS:
+            kinds[pair] = 'always'
+        elif within < near:
+            kinds[pair] = 'near'
     return kinds
 
 
 def left_out(model, gm, postures=(), samples: int = SAMPLES, seed: int = _SEED,
-             cache: bool = True) -> dict[tuple[str, str], str]:
+             cache: bool = True, near: float = 0.0) -> dict[tuple[str, str], str]:
     """
     Return the link pairs of ``gm`` not to watch, with their reason (see the module).
 
     ``postures``: configurations whose contacts are ``default`` (the default posture is always
-    one); ``samples`` 0 samples nothing (only the postures' contacts are left out).
+    one); ``samples`` 0 samples nothing (only the postures' contacts are left out); ``near``:
+    the safety distance the ``near`` kind is judged by (0: none).
     """
     out = {}
     data, gd = model.createData(), pin.GeometryData(gm)
@@ -200,7 +231,7 @@ def left_out(model, gm, postures=(), samples: int = SAMPLES, seed: int = _SEED,
         for k in np.flatnonzero(touching).tolist():
             out.setdefault(link_pair(model, gm, gm.collisionPairs[k]), 'default')
     if samples > 0:
-        for pair, kind in sampled_kinds(model, gm, samples, seed, cache).items():
+        for pair, kind in sampled_kinds(model, gm, samples, seed, cache, near).items():
             out.setdefault(pair, kind)
     return out
 
@@ -227,7 +258,7 @@ def summary(left: dict[tuple[str, str], str], kept: int) -> str:
 
 def srdf_text(robot_name: str, left: dict[tuple[str, str], str]) -> str:
     """Return an SRDF whose ``disable_collisions`` are ``left`` (reasons as MoveIt writes them)."""
-    reason = {'never': 'Never', 'always': 'Always', 'default': 'Default',
+    reason = {'never': 'Never', 'always': 'Always', 'near': 'Always', 'default': 'Default',
               'adjacent': 'Adjacent', 'disabled': 'User'}
     lines = ['<?xml version="1.0"?>', f'<robot name="{robot_name}">']
     for (a, b), why in sorted(left.items()):
@@ -247,11 +278,14 @@ def main(argv=None) -> int:
     ap.add_argument('urdf')
     ap.add_argument('--srdf', help="an SRDF whose disable_collisions are kept (as 'User')")
     ap.add_argument('--samples', type=int, default=SAMPLES)
+    ap.add_argument('--safety-distance', type=float, default=0.0,
+                    help="the constraint's: pairs within it in 95 %% of the postures left out")
     ap.add_argument('-o', '--output', help='the SRDF to write (default: stdout)')
     args = ap.parse_args(argv)
     robot = RobotModel()
     robot.load_model_from_file(args.urdf)
-    geometry = CollisionGeometry(robot, args.srdf, samples=args.samples)
+    geometry = CollisionGeometry(robot, args.srdf, samples=args.samples,
+                                 near=args.safety_distance)
     text = srdf_text(robot.model.name, geometry.left_out)
     print(geometry.pair_summary, file=sys.stderr)
     if args.output:
