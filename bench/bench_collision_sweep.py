@@ -203,27 +203,6 @@ def build(arm: Arm, joints: list, collision: bool, urdf: str | None = None):
     return build_from_config(cfg)
 
 
-def absolute_meshes(urdf: str) -> str:
-    """
-    Write a copy of ``urdf`` whose relative mesh file names are absolute; return its path.
-
-    The collision constraint resolves ``package://`` names only (urdf_text.resolve_package_uris):
-    a URDF naming its meshes relative to its own directory (pybullet_data's iiwa) does not load.
-    """
-    import tempfile  # noqa: PLC0415
-    import xml.etree.ElementTree as ET  # noqa: PLC0415
-
-    root = ET.parse(urdf).getroot()
-    here = os.path.dirname(os.path.abspath(urdf))
-    for element in root.iter():
-        name = element.get('filename', '')
-        if name and '://' not in name and not os.path.isabs(name):
-            element.set('filename', os.path.join(here, name))
-    path = os.path.join(tempfile.mkdtemp(prefix='sweep_'), os.path.basename(urdf))
-    ET.ElementTree(root).write(path)
-    return path
-
-
 def link_key(a: str, b: str) -> frozenset:
     return frozenset((a, b))
 
@@ -353,17 +332,7 @@ class Bench:
         if self.q0.size != len(self.joints):
             raise ValueError(f'{name}: {len(self.joints)} joints {self.joints}, q0 has '
                              f'{self.q0.size}')
-        #: why the URDF as shipped does not load with the constraint (None: it does)
-        self.workaround = None
-        try:
-            setup = build(self.arm, self.joints, True, self.urdf)
-        except ValueError as exc:  # (pybullet_data's iiwa: its meshes named relatively)
-            if 'could not be found' not in str(exc):
-                raise
-            self.workaround = (f'the collision constraint does not load the URDF as shipped '
-                               f'({exc}); run on a copy with absolute mesh paths')
-            self.urdf = absolute_meshes(self.urdf)
-            setup = build(self.arm, self.joints, True, self.urdf)
+        setup = build(self.arm, self.joints, True, self.urdf)
         self.robot = setup.robot  # kinematics (never run)
         self.geometry = setup.controller.get_constraint('collision').geometry
         model = self.robot.model
@@ -615,8 +584,6 @@ def sweep(names: list, placements: int, seed: int, max_lead: float | None = None
             broken[name] = f'{type(exc).__name__}: {exc}'
             print(f'{name}: NOT RUN: {broken[name]}', flush=True)
             continue
-        if bench.workaround:
-            print(f'{name}: NOTE: {bench.workaround}', flush=True)
         print(f'{name}: {len(bench.joints)} joints, {len(bench.meshes.objects)} collision '
               f'bodies; {bench.geometry.pair_summary}; self pairs measured: '
               f'{len(bench.self_pairs)} (watched + never), {len(bench.all_pairs)} (all but '
@@ -731,8 +698,6 @@ def report(results: dict, selfs: dict, broken: dict) -> None:
     if broken:
         print(f'  arms not run: {", ".join(broken)}')
     for name, (_, bench) in selfs.items():
-        if bench.workaround:
-            print(f'  {name}: {bench.workaround}')
         if kept.get(name):
             print(f'  {name}: {kept[name]} link pairs named left out are still watched')
 
