@@ -39,8 +39,8 @@ geometry (meshes as BVHs, not the constraint's rounded convex hulls): the least 
 the ball and any of the robot's bodies, and the least self distance over the pairs the constraint
 watches plus those it leaves out as 'never' (they cannot meet). Also the failed cycles, the
 largest torque step per cycle (all joints) and the largest outside the cycles where the
-trajectory restarted on its leash (its reference 5 cm ahead of a hand held back, it restarts at
-rest: the twist fed forward drops to zero in one cycle), the final hand position error (a run
+reference's twist jumped (a trajectory restarted on its leash at rest did that; the leash keeps
+the twist now, :mod:`orca_ros.servo.target_trajectory`), the final hand position error (a run
 stalls above 5 mm: the target is reachable, so the reachable point nearest it is the target),
 and for a stall what holds the hand: the constraint's rows within 5 mm of the safety distance at
 the end (the ball, self pairs), joints within 0.02 rad of a position limit.
@@ -58,22 +58,7 @@ Acceptance (issue 37): 0 failed cycles; least distance >= safety distance - 1 mm
 target; torque steps <= 2 Nm per cycle outside obstacle add/remove events. Per-run lines as it
 goes, then a table per arm and the verdict.
 
-Measured (seed 0, 20 placements; 24 min on 2 busy cores): on the UR5, UR10, Panda, lwr, xArm7
-and Kinova 0 failed cycles, the meshes >= 49.8 mm from the ball and >= 45.1 mm from themselves
-(the constraint keeps its hulls, inflated by 1 cm each, 30 mm apart); without it 117 of those 120
-runs go into the ball. But 114 of the 120 hands stall at the ball, 250-830 mm short: held back,
-the trajectory restarts on its leash every cycle, at rest, 5 cm ahead of the hand, and the hand
-settles at the constraint's surface nearest that frozen reference (with ``--max-lead 100``, 5
-placements: 28 of 30 reach their target; the lwr's two are held by its link_5/link_7 pair). Torque
-steps reach 10-57 Nm, most at the leash restarts (the twist fed forward, 0.25 m/s, dropped in one
-cycle: kd 40 x 0.25 m/s of hand acceleration), the rest while held at the ball (rows binding in
-turn); 39 Nm without the leash (a 21 cm error pulling joints onto their velocity and torque
-limits). The iiwa: pybullet_data names its meshes relative to the URDF, which the constraint does
-not resolve (run on a copy); its wrist pair link_5/link_7 is 11 mm apart on the hulls at every
-posture, held there, and when its closest features switch the held floor asks 0.18 m/s^2 of
-separation on a row of ~5e-4 m/rad, more than the velocity limits' rows allow (~0.13): every cycle
-after fails (PRIMAL_INFEASIBLE), the arm runs into itself. The self cases: 0 failed cycles and
->= 45.1 mm on all but the iiwa; the UR10's pairs left out as 'always' stay at their 18-19 mm.
+Results: docs/benchmarks.md (Collision avoidance on arms nobody tuned for).
 
 Usage: python bench/bench_collision_sweep.py [--placements 20] [--arms ur5 panda ...] [--seed 0]
        [--max-lead S]
@@ -117,8 +102,8 @@ MIN_MOVE = 0.10  # [m] the hand moves at least this far
 RADIUS = (0.04, 0.08)  # [m] the ball's
 SIDEWAYS = (0.02, 0.08)  # [m] the ball's centre off the straight line
 CLEAR = SAFETY + 0.02  # [m] the ball's least distance to the start and target postures
-# a change of the reference's twist in one cycle 10x what its acceleration limits allow: the
-# trajectory restarted on its leash (the hand held back 5 cm behind it), at rest
+# a change of the reference's twist in one cycle 10x what its acceleration limits allow (a
+# restart on the leash at rest did that)
 JUMP = 10.0 * np.repeat(CARTESIAN['max_acceleration'], 3) * DT
 
 
