@@ -36,17 +36,12 @@ within millimetres (the shipped arm: a few mm at most at 0.25 m/s, kp 400 with f
 inside it; a servo that cannot (a target out of reach, a constraint in the way) would leave the
 reference running on towards the target, and the next target would start from there, metres away
 and at full speed. Instead the part (position, orientation; or joint) beyond the bound restarts
-from the measured position, moved the bound towards the old reference, with the old reference's
-velocity and acceleration, to the same target; the rest goes on as it was. Only the position is
-pulled back: the servo's command kp e + kd (v_ref - v) + a_ref keeps its feed-forward terms, and e
-changes by the overshoot of one cycle (v dt), so the torques stay continuous (a restart at rest
-would drop kd v_ref at once: kd times the cruise speed of acceleration in one cycle). While the
-robot is held (an obstacle, a target out of reach) the reference cruises on at the bound, restarted
-every cycle: the servo pulls with kp times the bound plus kd times the cruise speed, steadily, no
+from the measured position, moved the bound towards the old reference, at rest (no velocity, no
+acceleration), to the same target; the rest goes on as it was. The servo then pulls with its gain
+times the bound and damps the robot's own velocity: a steady pull, no jolt back to nothing and no
 sawtooth (from exactly the measured state the pull would drop to zero at each restart), and no
 reference dragged along by a robot moving away (from the measured velocity, the servo's damping
-would vanish: seen through the nodes, the stretched arm wandered off by a metre; the reference's
-own velocity points to the target and damps any other motion). ``following``
+would vanish: seen through the nodes, the stretched arm wandered off by a metre). ``following``
 tells whether the servo follows (no restart in the last ``max_lead`` seconds, the lead at most half
 the bound); when it does not, a new target is best started from the measured state, not from the
 reference on the leash ahead of it.
@@ -210,7 +205,7 @@ class JointTrajectory(_Leashed):
         """
         (q, qd, qdd) at time t, within the lead bound of the measured ``position``.
 
-        The joints further ahead restart on the leash, at their velocity (see the module).
+        The joints further ahead restart on the leash, at rest (see the module).
         """
         q, qd, qdd = self.sample(t)
         position = np.asarray(position, dtype=float)
@@ -218,7 +213,7 @@ class JointTrajectory(_Leashed):
         if q0 is None:
             return q, qd, qdd
         ahead = np.abs(q - position) > self.lead  # the others go on as they were
-        q0 = np.where(ahead, q0, q)
+        q0, qd, qdd = np.where(ahead, q0, q), np.where(ahead, 0.0, qd), np.where(ahead, 0.0, qdd)
         # unsynchronised: a stuck joint must not hold the others back (synchronised, they would
         # slow down to arrive with it, and never arrive)
         self._restart(t, q0, qd, qdd, synchronized=False)
@@ -306,8 +301,7 @@ class CartesianTrajectory(_Leashed):
         """
         (pose, twist, acceleration) at time t, within the lead bound of the measured ``pose``.
 
-        The position or orientation further ahead restarts on the leash, at its velocity (see the
-        module).
+        The position or orientation further ahead restarts on the leash, at rest (see the module).
         """
         ref, v, a = self.sample(t)
         pose = np.asarray(pose, dtype=float)
@@ -316,8 +310,9 @@ class CartesianTrajectory(_Leashed):
         if p0 is None and r0 is None:
             return ref, v, a
         start = ref.copy()
-        for part, fix in ((p0, 0), (r0, 1)):
+        for part, rows, fix in ((p0, slice(0, 3), 0), (r0, slice(3, 6), 1)):
             if part is not None:
+                v[rows], a[rows] = 0.0, 0.0
                 if fix:
                     start[:3, :3] = pose[:3, :3] @ pin.exp3(part)
                 else:
