@@ -80,7 +80,7 @@ class Level:
         self.keep, self.ref_x, self.band = np.zeros(nl), np.zeros(nx), np.zeros(nl)
         self.Mb = np.zeros((nc + ni + nl, nx))
         self.lob, self.hib = np.zeros(nx + nc + ni + nl), np.zeros(nx + nc + ni + nl)
-        self.state = L.LevelState(
+        self.state = L.make_level_state(
             plan.E, plan.f, plan.w, plan.sel, assembly.ew, assembly.nw, plan.diag_sel,
             plan.diag_ws, plan.diag_wsf, assembly.dg_ew, assembly.dg_nw, assembly.dg_tab, plan.M,
             plan.lo, plan.hi,

@@ -105,6 +105,12 @@ structref.define_proxy(SolveState, SolveStateType, list(FIELDS))
 
 
 @njit
+def make_solve_state(*fields):
+    """Make a SolveState in compiled code: cached on disk, unlike the proxy's own constructor."""
+    return SolveState(*fields)
+
+
+@njit
 def scale(s):
     """Write the problem in the solver's variables x~ = x / d into DAQP's buffers."""
     H, g, M, lo, hi, d, dd, inv = s.H, s.g, s.M, s.lo, s.hi, s.d, s.dd, s.inv

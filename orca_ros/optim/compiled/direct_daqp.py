@@ -104,7 +104,7 @@ class DirectDAQPBackend(QPBackend):
         self._lam = np.zeros(nx + m)
         r.x, r.lam = a['xs'].ctypes.data, self._lam.ctypes.data
         self.x = a['x']
-        self._state = K.SolveState(*(a[f] for f in K.FIELDS))
+        self._state = K.make_solve_state(*(a[f] for f in K.FIELDS))
         # the solve kernel for the state's types, called without the dispatcher's type
         # resolution (utils.jit.entry); again in bind(), for the level's arrays' types
         self._solve = entry(K.solve, self._state, 0, 0)
@@ -121,13 +121,13 @@ class DirectDAQPBackend(QPBackend):
         self._arrays['x'] = self.x = x
         if base is not None:
             self._arrays['base'] = base
-        self._state = K.SolveState(*(self._arrays[f] for f in K.FIELDS))
+        self._state = K.make_solve_state(*(self._arrays[f] for f in K.FIELDS))
         self._solve = entry(K.solve, self._state, 0, 0)
 
     def bind(self, H, g, M, lo, hi) -> None:
         """Read the level's problem from these arrays (the same every cycle)."""
         self._arrays.update(H=H, g=g, M=M, lo=lo, hi=hi)
-        self._state = K.SolveState(*(self._arrays[f] for f in K.FIELDS))
+        self._state = K.make_solve_state(*(self._arrays[f] for f in K.FIELDS))
         self._solve = entry(K.solve, self._state, 0, 0)  # for these arrays' types
         self._bound = (H, g, M, lo, hi)
 

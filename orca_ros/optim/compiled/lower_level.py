@@ -82,6 +82,12 @@ structref.define_proxy(LevelState, LevelStateType, list(FIELDS))
 
 
 @njit
+def make_level_state(*fields):
+    """Make a LevelState in compiled code: cached on disk, unlike the proxy's own constructor."""
+    return LevelState(*fields)
+
+
+@njit
 def _relax(lo, hi, value, out_lo, out_hi, k):
     """Bounds on the step: the room left around ``value``, less ROOM_TOL, never excluding 0."""
     a = lo - value + ROOM_TOL
