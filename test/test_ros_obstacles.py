@@ -180,10 +180,11 @@ def test_an_absurd_obstacle_is_named_held_safe_and_its_deletion_restores_control
     try:
         # past the start (the posture's start trajectory) and at rest
         t_start = probe.sim_time()
-        probe.wait_for(
-            lambda: probe.sim_time() > t_start + 1.0 and np.abs(probe.last_state()[2]).max() < 1e-3,
-            120, 'the arm at rest',
-        )
+        def at_rest():
+            return (probe.sim_time() > t_start + 1.0
+                    and np.abs(probe.last_state()[2]).max() < 1e-3)
+
+        probe.wait_for(at_rest, 120, 'the arm at rest')
         hand0 = probe.ee_pose()[:3, 3].copy()
         t0 = probe.sim_time()
         absurd = MarkerArray(markers=[_marker(scale=200.0, ident=7)])
