@@ -180,6 +180,7 @@ def test_an_absurd_obstacle_is_named_held_safe_and_its_deletion_restores_control
     try:
         # past the start (the posture's start trajectory) and at rest
         t_start = probe.sim_time()
+
         def at_rest():
             return (probe.sim_time() > t_start + 1.0
                     and np.abs(probe.last_state()[2]).max() < 1e-3)
