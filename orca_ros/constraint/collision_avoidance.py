@@ -83,8 +83,8 @@ def _capacity(robot) -> np.ndarray:
     (each joint at its limit, gravity and coupling aside): a bound above that asks the joints
     for what they cannot give, and the QP has no solution. That happens where the pair's
     distance is stationary in the joints (a UR5's flange block at its closest to the first wrist
-    link: the row ~0, while the bound asked for a separation; the wrist spun to its velocity
-    limit and 92 % of the cycles failed). The bound is capped there. Computed at configuration
+    link: the row ~0, while the bound asked for a separation, and the wrist spun to its
+    velocity limit). The bound is capped there. Computed at configuration
     (the start posture's inertia); joints without a torque limit, and a floating base's
     coordinates, are not capped.
     """

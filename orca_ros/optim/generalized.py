@@ -38,7 +38,7 @@ QP of its tasks. Level k >= 1, given the solution x_{k-1} of the level above:
    made orthonormal, Q (Gram-Schmidt in row order, as the strict form's locks: a row that
    depends on the rows before it is zero), and each row q of task i gets the band
    b_q = (1 - alpha_i)^2 |q . (x_w,k - x_{k-1})|: the share of the disturbance that weighting
-   would inflict on task i that level k is still allowed to inflict, measured in the joint space
+   would inflict on task i that level k is still allowed to inflict, taken in the joint space
    of task i's rows (squared: the band closes with zero slope at alpha = 1, so that the last
    steps of a priority ramp move the solution by vanishing amounts);
 3. x_k = argmin  sum_{levels <= k} w_t ||diag(s_t)(E_t x - f_t)||^2 + regularisation

@@ -29,7 +29,7 @@ and the log says so (WARN, at most once a second per task).
 Configured targets (``target_position`` of a Cartesian task, ``target`` of a joint task) are set
 before the robot is seen. At the first state (:meth:`TargetSmoothing.start_configured_targets`),
 one the robot is far from (beyond half the lead bound, where a running trajectory counts as not
-followed: 2.5 cm or 0.1 rad with the Cartesian defaults) becomes a trajectory from the measured
+followed) becomes a trajectory from the measured
 state instead of a step (a step of d asks kp d of acceleration at once, beyond what contacts and
 torques give for a lying robot's trunk), said once (WARN). Nearer, it stays a step, as before.
 """
