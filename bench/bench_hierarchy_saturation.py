@@ -47,11 +47,10 @@ import sys
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.examples.common import add_conflicting_stack, integrate, STACK_Q0
+from orca_ros.examples.common import add_conflicting_stack, integrate, STACK_ARMS
 
 DT = 0.001
 SWITCH_ON = 20  # cycles
-PANDA_Q0 = [0.0, -0.4, 0.0, -2.0, 0.0, 1.6, 0.8, 0.02, 0.02]
 
 
 def _urdf(which: str) -> str:
@@ -70,11 +69,7 @@ def _urdf(which: str) -> str:
 
 
 #: arm: (end effector frame, elbow frame, start posture)
-ARMS = {
-    'lwr': ('link_7', 'link_4', STACK_Q0),
-    'iiwa': ('lbr_iiwa_link_7', 'lbr_iiwa_link_4', STACK_Q0),
-    'panda': ('panda_link8', 'panda_link4', PANDA_Q0),
-}
+ARMS = STACK_ARMS
 
 
 def scenarios(which: str, draws: int):

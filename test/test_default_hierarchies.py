@@ -26,17 +26,11 @@ PriorityLevels.damping_scale).
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.examples.common import add_conflicting_stack, integrate, STACK_Q0
+from orca_ros.examples.common import add_conflicting_stack, integrate, STACK_ARMS
 import pytest
 
 DT = 0.001
-PANDA_Q0 = [0.0, -0.4, 0.0, -2.0, 0.0, 1.6, 0.8, 0.02, 0.02]
-# arm: (end effector frame, elbow frame, start posture)
-ARMS = {
-    'lwr': ('link_7', 'link_4', STACK_Q0),
-    'iiwa': ('lbr_iiwa_link_7', 'lbr_iiwa_link_4', STACK_Q0),
-    'panda': ('panda_link8', 'panda_link4', PANDA_Q0),
-}
+ARMS = STACK_ARMS
 
 
 @pytest.fixture

@@ -31,19 +31,13 @@ the way to a hand target 27 cm away.
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.examples.common import add_conflicting_stack, integrate, STACK_Q0
+from orca_ros.examples.common import add_conflicting_stack, integrate, STACK_ARMS, STACK_Q0
 import pytest
 
 pytest.importorskip('numba')
 
 DT = 0.001
-PANDA_Q0 = [0.0, -0.4, 0.0, -2.0, 0.0, 1.6, 0.8, 0.02, 0.02]
-# arm: (end effector frame, elbow frame, start posture)
-ARMS = {
-    'lwr': ('link_7', 'link_4', STACK_Q0),
-    'iiwa': ('lbr_iiwa_link_7', 'lbr_iiwa_link_4', STACK_Q0),
-    'panda': ('panda_link8', 'panda_link4', PANDA_Q0),
-}
+ARMS = STACK_ARMS
 BEYOND_REACH = ([0.9, 0.0, 0.0], None)  # the hand's target offset (the elbow's as shipped)
 # (arm, q, v): where the strict stack held a torque at its limit (see the module's docstring)
 SATURATED = [

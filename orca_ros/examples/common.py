@@ -125,6 +125,15 @@ def add_standard_constraints(
 
 #: the bent posture the conflicting stack starts from (lwr.urdf)
 STACK_Q0 = np.array([0.3, 0.7, -0.2, -1.1, 0.4, 0.6, 0.1])
+#: the Panda's (example-robot-data, fingers included) for the same stack
+STACK_Q0_PANDA = np.array([0.0, -0.4, 0.0, -2.0, 0.0, 1.6, 0.8, 0.02, 0.02])
+#: the conflicting stack on other arms: {arm: (end effector frame, elbow frame, start posture)}
+#: (lwr: the package's; iiwa: pybullet_data's; panda: example-robot-data's)
+STACK_ARMS = {
+    'lwr': ('link_7', 'link_4', STACK_Q0),
+    'iiwa': ('lbr_iiwa_link_7', 'lbr_iiwa_link_4', STACK_Q0),
+    'panda': ('panda_link8', 'panda_link4', STACK_Q0_PANDA),
+}
 
 
 def add_conflicting_stack(
