@@ -526,7 +526,7 @@ class Bench:
         ball = [('obstacle:' in x + y) for x, y, _ in r['rows_at_end']]
         if any(ball):
             why.append('ball')
-        selfs = sorted({f'{x.rsplit("_", 1)[0]}/{y.rsplit("_", 1)[0]}'
+        selfs = sorted({f"{x.rsplit('_', 1)[0]}/{y.rsplit('_', 1)[0]}"
                         for (x, y, _), b in zip(r['rows_at_end'], ball) if not b})
         if selfs:
             why.append('self ' + ','.join(selfs))
@@ -543,22 +543,22 @@ def _line(name: str, i: int, n: int, p: Placement, move: float, w: dict, wo: dic
           bench: Bench, took: float) -> str:
     """One placement's runs, with and without the constraint."""
     cause = ('leash restart' if w['step_restart'] else
-             f'ball row {_mm(w["step_ball"]).strip()}' if np.isfinite(w['step_ball']) else
+             f"ball row {_mm(w['step_ball']).strip()}" if np.isfinite(w['step_ball']) else
              'no ball row')
     return (f'  {name} {i + 1:2d}/{n} move {move * 1e3:3.0f} mm, ball r {p.radius * 1e3:2.0f} mm'
-            f' | with: fail {w["failures"]}, ball {_mm(w["ball"])}, self {_mm(w["self"])} '
-            f'({bench.meshes.name(w["self_pair"])}), step {w["step"]:5.2f} Nm at '
-            f'{w["step_t"]:4.2f} s ({cause}), w/o restarts {w["other_step"]:.2f}, '
-            f'{w["restarts"]} restarts, add {w["add_step"]:.2f}, error {_mm(w["error"])} '
-            f'{w["holds"]}| without: ball {_mm(wo["ball"])}, error {_mm(wo["error"])}, fail '
-            f'{wo["failures"]}, step {wo["step"]:.2f} | {took:.1f} s')
+            f" | with: fail {w['failures']}, ball {_mm(w['ball'])}, self {_mm(w['self'])} "
+            f"({bench.meshes.name(w['self_pair'])}), step {w['step']:5.2f} Nm at "
+            f"{w['step_t']:4.2f} s ({cause}), w/o restarts {w['other_step']:.2f}, "
+            f"{w['restarts']} restarts, add {w['add_step']:.2f}, error {_mm(w['error'])} "
+            f"{w['holds']}| without: ball {_mm(wo['ball'])}, error {_mm(wo['error'])}, fail "
+            f"{wo['failures']}, step {wo['step']:.2f} | {took:.1f} s")
 
 
 def sweep(names: list, placements: int, seed: int, max_lead: float | None = None) -> None:
     """Run the sweep and the self cases; print the runs, the tables and the verdict."""
     lead = "the node's" if max_lead is None else f'{max_lead:g} s'
     print(f'safety distance {SAFETY * 1e3:g} mm; {placements} placements per arm, seed {seed}; '
-          f'arms {" ".join(names)}; trajectory lead bound {lead}', flush=True)
+          f"arms {' '.join(names)}; trajectory lead bound {lead}", flush=True)
     results, selfs, broken = {}, {}, {}
     t_all = time.perf_counter()
     for name in names:
@@ -584,20 +584,20 @@ def sweep(names: list, placements: int, seed: int, max_lead: float | None = None
             print(_line(name, i, len(chosen), p, move, w, wo, bench, time.perf_counter() - t1),
                   flush=True)
             if w['failures']:
-                print(f'      first failure at {w["first_failure"]:.3f} s: {w["why"]}', flush=True)
+                print(f"      first failure at {w['first_failure']:.3f} s: {w['why']}", flush=True)
         s = bench.run(bench.inside(), True, self_all=True)
         selfs[name] = (s, bench)
-        others = ', '.join(f'{"/".join(sorted(k))} ({bench.kind[k]}) {_mm(d).strip()} (start '
-                           f'{_mm(s["others_start"][k]).strip()})'
+        others = ', '.join(f"{'/'.join(sorted(k))} ({bench.kind[k]}) {_mm(d).strip()} (start "
+                           f"{_mm(s['others_start'][k]).strip()})"
                            for k, d in sorted(s['others'].items(), key=lambda kd: kd[1]))
-        print(f'  {name} self case: fail {s["failures"]}, least (watched + never) '
-              f'{_mm(s["self"])} mm ({bench.meshes.name(s["self_pair"])}); left out as '
-              f'default/always: {others or "none"}; step {s["step"]:.2f} Nm '
-              f'({"restart" if s["step_restart"] else "no restart"}), w/o restarts '
-              f'{s["other_step"]:.2f}; hand {_mm(s["error"])} mm short | '
+        print(f"  {name} self case: fail {s['failures']}, least (watched + never) "
+              f"{_mm(s['self'])} mm ({bench.meshes.name(s['self_pair'])}); left out as "
+              f"default/always: {others or 'none'}; step {s['step']:.2f} Nm "
+              f"({'restart' if s['step_restart'] else 'no restart'}), w/o restarts "
+              f"{s['other_step']:.2f}; hand {_mm(s['error'])} mm short | "
               f'{time.perf_counter() - t0:.0f} s for the arm', flush=True)
         if s['failures']:
-            print(f'      first failure at {s["first_failure"]:.3f} s: {s["why"]}', flush=True)
+            print(f"      first failure at {s['first_failure']:.3f} s: {s['why']}", flush=True)
     report(results, selfs, broken)
     print(f'total {time.perf_counter() - t_all:.0f} s')
 
@@ -607,9 +607,9 @@ def report(results: dict, selfs: dict, broken: dict) -> None:
     print()
     print('Ball sweep with the collision constraint; distances in mm (meshes), steps in Nm; '
           'without: the same runs, no constraint')
-    print(f'{"arm":<7} runs  failed  runs with  ball   self   step  step  step max w/o   '
+    print(f"{'arm':<7} runs  failed  runs with  ball   self   step  step  step max w/o   "
           f'stalled | without: into  stalled')
-    print(f'{"":<7}      cycles  failures   min    min    p50   max   leash restarts '
+    print(f"{'':<7}      cycles  failures   min    min    p50   max   leash restarts "
           f'        |      the ball')
     verdict = {'failed cycles': [], 'ball distance': [], 'self distance': [], 'stalled': [],
                'torque steps': [], 'self case distance': [], 'self case failed cycles': []}
@@ -635,7 +635,7 @@ def report(results: dict, selfs: dict, broken: dict) -> None:
         if holds:
             notes.append('stalled hands held by: ' + ', '.join(f'{k} x{n}'
                                                                for k, n in holds.items()))
-        print(f'{"":<7} ' + '; '.join(notes))
+        print(f"{'':<7} " + '; '.join(notes))
         if fails:
             verdict['failed cycles'].append(f'{name} ({fails} in {fail_runs} runs)')
         if ball < SAFETY - TOLERANCE:
@@ -650,16 +650,16 @@ def report(results: dict, selfs: dict, broken: dict) -> None:
                 f'{steps.max():.2f}; {other:.2f} outside leash restarts)')
     print()
     print('Self collision: the hand sent inside its own base column; distances in mm (meshes)')
-    print(f'{"arm":<7} failed  least: watched  all but adjacent  hand   step  step max w/o')
-    print(f'{"":<7} cycles     and never      and disabled   short  max   leash restarts')
+    print(f"{'arm':<7} failed  least: watched  all but adjacent  hand   step  step max w/o")
+    print(f"{'':<7} cycles     and never      and disabled   short  max   leash restarts")
     for name, (s, bench) in selfs.items():
         every = min([s['self']] + list(s['others'].values()))
-        print(f'{name:<7} {s["failures"]:6d}  {_mm(s["self"]):>14}  {_mm(every):>16}  '
-              f'{_mm(s["error"])} {s["step"]:5.2f}  {s["other_step"]:14.2f}')
+        print(f"{name:<7} {s['failures']:6d}  {_mm(s['self']):>14}  {_mm(every):>16}  "
+              f"{_mm(s['error'])} {s['step']:5.2f}  {s['other_step']:14.2f}")
         if s['failures']:
-            verdict['self case failed cycles'].append(f'{name} ({s["failures"]})')
+            verdict['self case failed cycles'].append(f"{name} ({s['failures']})")
         if s['self'] < SAFETY - TOLERANCE:
-            verdict['self case distance'].append(f'{name} ({s["self"] * 1e3:.1f} mm)')
+            verdict['self case distance'].append(f"{name} ({s['self'] * 1e3:.1f} mm)")
     print()
     print("Pairs left out, with their reason (the constraint's geometry.left_out):")
     kept = {}
@@ -669,8 +669,8 @@ def report(results: dict, selfs: dict, broken: dict) -> None:
             still = ' (STILL WATCHED)' if key in bench.watched else ''
             by.setdefault(why, []).append('/'.join(sorted(key)) + still)
         kept[name] = sum(key in bench.watched for key in bench.left_out)
-        told = '; '.join(f'{why} ({len(p)}): {", ".join(p)}' for why, p in sorted(by.items()))
-        print(f'  {name}: {told or "none"}')
+        told = '; '.join(f"{why} ({len(p)}): {', '.join(p)}" for why, p in sorted(by.items()))
+        print(f"  {name}: {told or 'none'}")
     for name, why in broken.items():
         print(f'  {name}: NOT RUN: {why}')
     if any(kept.values()):
@@ -678,11 +678,11 @@ def report(results: dict, selfs: dict, broken: dict) -> None:
               'the pairs of geometry.geom_model)')
     print()
     print(f'Verdict (issue 37, acceptance 1 and 2; {len(results)} arms run'
-          f'{", at least 5 needed" if len(results) < 5 else ""}):')
+          f"{', at least 5 needed' if len(results) < 5 else ''}):")
     for what, bad in verdict.items():
         print(f'  {what:<24} ' + ('met' if not bad else 'NOT met: ' + '; '.join(bad)))
     if broken:
-        print(f'  arms not run: {", ".join(broken)}')
+        print(f"  arms not run: {', '.join(broken)}")
     for name, (_, bench) in selfs.items():
         if kept.get(name):
             print(f'  {name}: {kept[name]} link pairs named left out are still watched')

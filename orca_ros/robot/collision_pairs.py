@@ -252,7 +252,7 @@ def summary(left: dict[tuple[str, str], str], kept: int) -> str:
     by = {}
     for (a, b), why in sorted(left.items()):
         by.setdefault(why, []).append(f'{a}/{b}')
-    told = '; '.join(f'{why} ({len(p)}): {", ".join(p)}' for why, p in sorted(by.items()))
+    told = '; '.join(f"{why} ({len(p)}): {', '.join(p)}" for why, p in sorted(by.items()))
     return f'{kept} link pairs watched, {len(left)} left out: {told}'
 
 
