@@ -68,8 +68,14 @@ class ControllerMarkers:
         return self.get_clock().now().to_msg()
 
     def publish_markers(self) -> None:
-        """Send the markers of the model's current state and the last solution."""
-        if self.pub_markers is None or not self._have_state:
+        """
+        Send the markers of the model's current state and the last solution, when heard.
+
+        Nobody subscribed, none is built: a MarkerArray of the quadruped costs about as much CPU
+        as a control cycle, and a 1 kHz node has no cycle to spare for markers nobody draws.
+        """
+        if (self.pub_markers is None or not self._have_state
+                or self.pub_markers.get_subscription_count() == 0):
             return
         s = support_summary(self.robot, self._marker_contacts)
         stamp = self._marker_stamp()
