@@ -62,7 +62,7 @@ def test_target_step_follows_a_jerk_limited_path(tmp_path):
     assert off_line < 5e-3, f'path leaves the straight line by {off_line * 1e3:.1f} mm'
     # one sample per instant: a paused lockstep simulator announces its state again (same stamp)
     times, first = np.unique(times, return_index=True)
-    path = path[first]
+    path, rel = path[first], rel[first]
     speed = np.linalg.norm(np.diff(path, axis=0), axis=1) / np.diff(times)
     assert speed.max() < 0.25 * 1.1, f'peak speed {speed.max():.3f} m/s'
     from orca_ros.servo.target_trajectory import CartesianTrajectory
