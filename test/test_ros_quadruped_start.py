@@ -45,12 +45,13 @@ class Observer:
     """
     One light node: the bridge's ``/clock``, ``odom``, the first command and ``/diagnostics``.
 
-    Every odom sample is stamped with the simulated time heard last (free running stamps states
-    with the bridge's node clock, not the simulated one). Best effort, depth 1 for the 1 kHz
+    ``joint_states`` too when asked (the sink's joints: one more 1 kHz topic). Every odom sample
+    is stamped with the simulated time heard last (free running stamps states with the bridge's
+    node clock, not the simulated one). Best effort, depth 1 for the 1 kHz
     topics: a slow observer skips samples, it does not load the machine.
     """
 
-    def __init__(self, domain: int):
+    def __init__(self, domain: int, joint_states: bool = False):
         import rclpy
         from diagnostic_msgs.msg import DiagnosticArray
         from nav_msgs.msg import Odometry
@@ -72,7 +73,8 @@ class Observer:
             Float64MultiArray, '/effort_controller/commands', self._on_command, STATE_QOS
         )
         node.create_subscription(DiagnosticArray, '/diagnostics', self._on_diagnostics, 10)
-        node.create_subscription(JointState, '/joint_states', self._on_joints, STATE_QOS)
+        if joint_states:  # one more 1 kHz topic: only where the joints are wanted (the sink)
+            node.create_subscription(JointState, '/joint_states', self._on_joints, STATE_QOS)
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(node)
         self._stop = False
@@ -205,9 +207,10 @@ def start_as_documented(tmp_path, quad, params, hold='true', controller=True):
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
     start_bridge(procs, quad, robot.get_joint_names(), '-p', f'hold_base_until_command:={hold}')
-    obs = Observer(domain)
+    obs = Observer(domain, joint_states=not controller)
     try:
-        obs.wait_for(lambda: obs.now >= WAIT and obs.poses() and obs.joint_positions is not None,
+        obs.wait_for(lambda: obs.now >= WAIT and obs.poses()
+                     and (controller or obs.joint_positions is not None),
                      120, f'{WAIT} s simulated')
         if not controller:
             return obs, ''
