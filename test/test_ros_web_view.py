@@ -274,18 +274,21 @@ def _drag_ee_gizmo(run):
     """
     Drag the end effector's gizmo along its axis arrow that looks longest, towards the arm's base.
 
-    The arm at rest on its target (the gizmo where the end effector is). Returns the drag's last
-    target (4x4, base frame = world) and the current pose marker's centre before the drag.
+    The arm at rest near its target: the gizmo is where the last target put it (the end effector
+    where no target was sent yet); after a controller restart the arm rests a few millimetres and
+    tenths of a degree from it. Returns the drag's last target (4x4, base frame = world) and the
+    current pose marker's centre before the drag.
     """
     tab, probe = run['tab'], run['probe']
     from orca_ros.ros.common import pose_to_matrix
 
     targets = run['targets']
     n = len(targets)
-    start = probe.ee_pose()
+    at = probe.ee_pose()
+    start = pose_to_matrix(targets[-1].pose) if targets else at  # the gizmo
     p0 = start[:3, 3]
     before = _magenta_centre(tab.shot())
-    assert before is not None and np.linalg.norm(before - tab.project(p0)) < 20, before
+    assert before is not None and np.linalg.norm(before - tab.project(at[:3, 3])) < 20, before
     ends = [tab.project(p0 + 0.85 * GIZMO * start[:3, i]) for i in range(3)]
     i = int(np.argmax([np.linalg.norm(e - tab.project(p0)) for e in ends]))
     axis = start[:3, i]

@@ -242,10 +242,13 @@ class PyBulletBridge(GuardedNode, SimObstacles):
         if self.watchdog is not None and self.watchdog.on_command(self.server.get_time(), cmd):
             self.say('info', 'watchdog:resume', 'effort commands resumed: hold released')
         if self.base_hold is not None:  # the first command: the base given way to it
-            self.base_hold.release(self.server.get_time(), self.base_release)
+            t = self.server.get_time()
+            self.base_hold.release(t, self.base_release)
             self.base_hold = None
+            at = ', '.join(f'{v:.6f}' for v in self.model.get_world_to_base_transform()[:3, 3])
             self.get_logger().info(
-                f'first effort command: releasing the base over {self.base_release:.3g} s'
+                f'first effort command at t = {t:.4f} s (simulated), the base at [{at}] m: '
+                f'releasing it over {self.base_release:.3g} s'
             )
         if self.mode == 'lockstep':
             self._advance()
