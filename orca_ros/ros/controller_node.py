@@ -163,10 +163,13 @@ class OrcaControllerNode(
         # state in to command out: from the reception of the state a command answers to its
         # publication
         self.latencies = RingBuffer(window)
-        # garbage collection kept out of the control cycle: after start-up, everything alive is
-        # frozen out of the collector's sight and automatic collection is off; a low-rate timer
-        # collects the youngest generation between cycles (the cycle itself allocates little and
-        # creates no reference cycles)
+        # garbage collection kept out of the control cycle: at the first valid state, before the
+        # first command (the full collection pauses the node for tens of milliseconds, and a
+        # command stream that pauses right after it started lets a robot the simulator or its
+        # drives just gave to the controller sag), everything alive is frozen out of the
+        # collector's sight and automatic collection is off; a low-rate timer collects the
+        # youngest generation between cycles (the cycle itself allocates little and creates no
+        # reference cycles)
         self.manage_gc = bool(param(self, 'manage_gc', True))
         # real-time scheduling of the node's process (see realtime.py), as ros2_control's
         self.thread_priority = int(param(self, 'thread_priority', 50))
@@ -274,6 +277,11 @@ class OrcaControllerNode(
     def _cycle(self) -> None:
         if not self._have_state or self._stopped:
             return  # nothing is sent before the first valid state, nor after the shutdown hold
+        if self.manage_gc and not self._gc_frozen:
+            # before the first command, where its pause holds up none; the state it aged is not
+            # answered: the next cycle's is fresh
+            self._freeze_garbage()
+            return
         self.loop_cycles += 1
         wall = time.monotonic()
         if self._last_loop_wall is not None:
@@ -359,21 +367,17 @@ class OrcaControllerNode(
                 refused.append(text)
         self.scheduling_refused = '; '.join(refused)
 
-    def _collect_garbage(self) -> None:
-        """
-        Between cycles.
+    def _freeze_garbage(self) -> None:
+        """Collect everything, freeze what is alive, stop automatic collection (once)."""
+        gc.collect()
+        gc.freeze()
+        gc.disable()
+        self._gc_frozen = True
 
-        Freeze what start-up allocated (once control runs), then collect the young.
-        """
-        if not self._gc_frozen:
-            if not self._have_state:
-                return
-            gc.collect()
-            gc.freeze()
-            gc.disable()
-            self._gc_frozen = True
-            return
-        gc.collect(1)
+    def _collect_garbage(self) -> None:
+        """Between cycles, once frozen (:meth:`_freeze_garbage`): collect the young."""
+        if self._gc_frozen:
+            gc.collect(1)
 
 
 def main(args=None) -> int:
