@@ -125,6 +125,38 @@ def test_a_wrong_layout_is_refused_before_any_solve(monkeypatch):
     assert 'do not match' in direct_daqp.unavailable_reason()
 
 
+def test_a_workspace_is_freed_with_the_layout_it_was_made_with(monkeypatch):
+    """
+    A backend collected while the module's layout is another one frees its workspace right.
+
+    The finalizer took our settings out of DAQP's workspace through the layout looked up when the
+    collector ran: under the wrong-layout tests' ``_Shifted``, a backend of an earlier test
+    collected then wrote the null eight bytes off, DAQP freed numpy's settings buffer, and numpy
+    freed it again (the suite aborted: "double free or corruption"). Here DAQP's free is watched:
+    it must find the settings pointer null (else the watcher leaks instead of freeing).
+    """
+    import gc
+
+    rng = np.random.default_rng(3)
+    H, g, M, lo, hi = _qp(rng, 5, 1, 3)
+    b = direct_daqp.DirectDAQPBackend(5, 1, 3)
+    assert b.solve_stacked(H, g, M, lo, hi) is ReturnCode.SUCCESS  # our settings in its workspace
+    real_head, lib = daqp_c.WorkspaceHead, daqp_c.library()
+    free, settings_at_free = lib.free_workspace, []
+
+    def watched(address):
+        ours = bool(real_head.from_address(address).settings)
+        settings_at_free.append(ours)
+        if not ours:
+            free(address)
+
+    monkeypatch.setattr(lib, 'free_workspace', watched)
+    monkeypatch.setattr(daqp_c, 'WorkspaceHead', _Shifted)
+    del b
+    gc.collect()
+    assert settings_at_free == [False]
+
+
 def _arm_controller():
     robot = orca.RobotModel()
     robot.load_model_from_file(default_urdf_path())

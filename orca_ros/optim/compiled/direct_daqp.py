@@ -73,7 +73,9 @@ class DirectDAQPBackend(QPBackend):
         self._set_up = False
         self._checked = False  # the workspace's layout checked in full (its first set-up)
         self._ours = [False]  # the workspace holds our settings (put there once it checked)
-        self._finalizer = weakref.finalize(self, _release, lib, self._wbuf, self._ours)
+        # the finalizer gets the workspace's view, not the module's layout: a layout looked up
+        # when the collector runs may not be the one this workspace was set up and checked with
+        self._finalizer = weakref.finalize(self, _release, lib, self._wbuf, self._work, self._ours)
         # the state's arrays (the kernel's StructRef cannot be read from Python)
         a = self._arrays = {
             'ptrs': np.array([lib.update_address, lib.solve_address, 0, self._pbuf.ctypes.data,
@@ -140,7 +142,7 @@ class DirectDAQPBackend(QPBackend):
     def reset(self) -> None:
         """Forget the warm start: the next solve sets DAQP up again."""
         if self._set_up:
-            _release(self._lib, self._wbuf, self._ours)
+            _release(self._lib, self._wbuf, self._work, self._ours)
             self._set_up = False
             self._ptrs[K.WORK] = 0
 
@@ -254,12 +256,17 @@ def _words(cls) -> np.ndarray:
     return np.zeros(C.sizeof(cls) // 8 + 1, dtype=np.int64)
 
 
-def _release(lib, wbuf: np.ndarray, ours: list) -> None:
-    """Free what DAQP allocated for the workspace in ``wbuf`` (our settings excepted)."""
+def _release(lib, wbuf: np.ndarray, work, ours: list) -> None:
+    """
+    Free what DAQP allocated for the workspace in ``wbuf`` (our settings excepted).
+
+    Our settings are taken out of it first (DAQP would free them: numpy owns them) through
+    ``work``, the view over ``wbuf`` the workspace was made with.
+    """
     if not wbuf.any():
         return  # nothing set up
     if ours[0]:
-        daqp_c.WorkspaceHead.from_buffer(wbuf).settings = None
+        work.settings = None
         ours[0] = False
     address = wbuf.ctypes.data
     lib.free_workspace(address)
