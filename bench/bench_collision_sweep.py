@@ -457,7 +457,9 @@ class Bench:
                 col.add_obstacle('ball', 'sphere', [placement.radius], T)
             restart = False
             if t >= START:
-                reference = path.follow(t, servo.get_current_cartesian_pose())
+                reference = path.follow(
+                    t, servo.get_current_cartesian_pose(), servo.get_current_cartesian_velocity()
+                )
                 servo.set_desired(*reference)
                 jump = np.abs(reference[1] - twist) / JUMP
                 restart = bool(max(jump[:3].max(), jump[3:].max()) > 1.0)
