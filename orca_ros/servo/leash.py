@@ -111,8 +111,10 @@ class Leash:
 
     def measured_velocity(self, t: float, x, diff, given=None) -> np.ndarray | None:
         """
-        Return ``given``, else the measured ``x``'s rate: differences (``diff(x, x_prev)``, the
-        displacement) low-passed over VELOCITY_FILTER, from rest; None before two samples.
+        Return ``given``, else the measured ``x``'s rate (None before two samples).
+
+        Differences (``diff(x, x_prev)``: the displacement) low-passed over VELOCITY_FILTER,
+        starting from rest.
         """
         if given is not None:
             return np.asarray(given, dtype=float)
@@ -149,5 +151,5 @@ class Leash:
         return resume, ahead, brake
 
     def following(self, t: float, lead_ratio: float) -> bool:
-        """Whether the servo follows: no brake in the last ``max_lead`` s, within half the bound."""
+        """Tell whether the servo follows: no brake in the last ``max_lead`` s, half the bound."""
         return t - self.braked_at > self.max_lead and lead_ratio <= 0.5

@@ -38,8 +38,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ..utils.optional_import import optional_import
 from .leash import AT_REST, Leash, leashed, MAX_LEAD, pose_step
+from ..utils.optional_import import optional_import
 
 
 def _ruckig():
@@ -275,7 +275,7 @@ class CartesianTrajectory(_Leashed):
         return max(lin, ang)
 
     def _plan_linear(self, t, p, v, a) -> float:
-        """The position's straight line from (p, v, a) to the target's."""
+        """Plan the position's straight line from (p, v, a) to the target's."""
         target = self._target[:3, 3]
         # per-axis limits in proportion to the direction: from rest, a straight line within the
         # norm limits. A start velocity across it (a measured one) gets its share too, or braking
@@ -288,15 +288,15 @@ class CartesianTrajectory(_Leashed):
             t, p, v, a, target, self.vmax[0] * share, self.amax[0] * share, self.jmax[0] * share
         )
 
-    def _plan_angular(self, t, R, w, alpha) -> float:
-        """The rotation about one fixed axis from R (angular velocity w, acceleration alpha)."""
+    def _plan_angular(self, t, R, w, a) -> float:
+        """Plan the rotation about one fixed axis from R (angular velocity w, acceleration a)."""
         self._R0 = np.array(R, dtype=float)
         rotvec = pin.log3(self._R0.T @ self._target[:3, :3])  # in the start frame
         angle = float(np.linalg.norm(rotvec))
         self._axis = rotvec / angle if angle > 1e-12 else np.array([0.0, 0.0, 1.0])
         axis_base = self._R0 @ self._axis
         return self._ang.plan(
-            t, [0.0], [float(axis_base @ w)], [float(axis_base @ alpha)], [angle],
+            t, [0.0], [float(axis_base @ w)], [float(axis_base @ a)], [angle],
             self.vmax[1:], self.amax[1:], self.jmax[1:],
         )
 
