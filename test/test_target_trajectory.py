@@ -19,6 +19,7 @@ import pytest
 
 pytest.importorskip('ruckig')
 
+from orca_ros.servo.leash import AT_REST, BRAKE_ACCELERATION, BRAKE_JERK  # noqa: E402,I100
 from orca_ros.servo.target_trajectory import CartesianTrajectory  # noqa: E402,I100
 
 
@@ -87,17 +88,20 @@ def test_a_reference_the_servo_cannot_follow_brakes_on_its_leash():
         twist.append(v)
         acc.append(a)
     lin, ang = np.array(lin), np.array(ang)
-    # per 1 ms step: at most the acceleration and jerk limits' worth (per axis: a straight line
-    # takes a share of the norm limits on each)
+    # per 1 ms step: at most the brake's acceleration and jerk limits' worth (per axis: a
+    # straight line takes a share of the norm limits on each)
     dv, da = np.abs(np.diff(twist, axis=0)), np.abs(np.diff(acc, axis=0))
     for rows, k in ((slice(0, 3), 0), (slice(3, 6), 1)):
-        assert dv[:, rows].max() <= LIMITS[1][k] * 1e-3 * (1 + 1e-9), dv[:, rows].max()
-        assert da[:, rows].max() <= LIMITS[2][k] * 1e-3 * (1 + 1e-9), da[:, rows].max()
-    assert np.abs(twist[-1]).max() == 0.0  # at rest on the leash
+        assert dv[:, rows].max() <= BRAKE_ACCELERATION * LIMITS[1][k] * 1e-3 * (1 + 1e-9)
+        assert da[:, rows].max() <= BRAKE_JERK * LIMITS[2][k] * 1e-3 * (1 + 1e-9)
+    assert np.abs(twist[-1]).max() <= AT_REST  # at rest on the leash
     assert lin.max() <= bound[0] + 1e-12 and ang.max() <= bound[1] + 1e-12
     assert leashed.brakes > 0 and not leashed.following(3.0, measured)
-    first = np.argmax(lin >= bound[0] - 1e-9)
-    assert first > 0 and lin[first:].min() > bound[0] - 1e-6
+    # braking a cycle ahead (decisions are a cycle apart), it rests within two cycles' travel at
+    # the velocity limit of the bound, and stays
+    near = bound[0] - 2 * LIMITS[0][0] * 1e-3
+    first = np.argmax(lin >= near)
+    assert first > 0 and lin[first:].min() >= near
     near = _at([0.5, 0.12, 0.41])  # 15 cm
     fresh = CartesianTrajectory(*LIMITS).start(3.0, measured, np.zeros(6), np.zeros(6), near)
     after = leashed.start(3.0, *leashed.follow(3.0, measured), near)
@@ -140,9 +144,12 @@ def test_a_stuck_joint_brakes_alone():
         rates.append(qd)
         measured[[0, 2]] = q[[0, 2]]  # those follow perfectly
     refs = np.array(refs)
-    # the stuck joint brakes within its acceleration limit: its velocity never steps
-    assert np.abs(np.diff(np.array(rates)[:, 1])).max() <= 2.0 * 1e-3 * (1 + 1e-9)
-    assert np.abs(refs[:, 1]).max() <= 0.2 + 1e-12 and refs[-1, 1] > 0.2 - 1e-6
+    # the stuck joint brakes within the brake's acceleration limit: its velocity never steps
+    assert np.abs(np.diff(np.array(rates)[:, 1])).max() <= BRAKE_ACCELERATION * 2.0 * 1e-3 * (
+        1 + 1e-9
+    )
+    # at rest within two cycles' travel (at 1 rad/s) of the bound: it brakes a cycle ahead
+    assert np.abs(refs[:, 1]).max() <= 0.2 + 1e-12 and refs[-1, 1] >= 0.2 - 2 * 1.0 * 1e-3
     assert traj.brakes > 0
     # the followers: continuous (no step beyond their speed limit) and at their targets
     steps = np.abs(np.diff(refs[:, [0, 2]], axis=0)).max(axis=0)

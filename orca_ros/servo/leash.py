@@ -31,7 +31,11 @@ robot may move away) is moved back onto the bound and brakes on with the velocit
 it had: the reference slides along the bound until it stops. At rest it waits there (a steady
 pull: the servo's gain times the lead, damping the robot's own velocity) and goes on to the same
 target once the robot has come within half the bound. Braking always ends at rest, so a reference
-never cruises on along its bound. ``following`` tells whether the servo follows (no brake in the
+never cruises on along its bound; it brakes harder than it cruises (5x the acceleration limit, 20x
+the jerk limit: a stop in tens of milliseconds, each millisecond's change of the acceleration fed
+forward a small fraction of a servo's pull), or a stretched arm at a target out of reach is driven
+by the velocity fed forward for the whole of a gentle stop (the lwr's joint 3 reached 6.8 rad/s
+braking at the cruise limits). ``following`` tells whether the servo follows (no brake in the
 last ``max_lead`` seconds, the lead at most half the bound); when it does not, a new target is best
 started from the measured state, not from the reference on the leash ahead of it. Without a
 measured velocity, it is estimated from the measured positions (differences, low-passed).
@@ -49,6 +53,8 @@ MAX_LEAD = 0.2
 AT_REST = 1e-9
 # the measured velocity, when not given, from the positions' differences low-passed over this [s]
 VELOCITY_FILTER = 0.02
+# a brake's acceleration and jerk limits, in multiples of the trajectory's (see the module)
+BRAKE_ACCELERATION, BRAKE_JERK = 5.0, 20.0
 
 
 def stop_distance(v, a, amax, jmax):
@@ -96,14 +102,17 @@ class Leash:
     One trajectory's lead bound: when a part brakes, when it goes on (see the module).
 
     ``bound`` per part (joints; or [position, orientation]), reached in ``max_lead`` s at the
-    velocity limits; ``amax``, ``jmax``: the parts' braking limits. ``brakes`` counts the parts
-    that started braking (or were moved back onto the bound), ``braked_at`` is the last time.
+    velocity limits; ``amax``, ``jmax``: the parts' acceleration and jerk limits, which a brake
+    exceeds by BRAKE_ACCELERATION and BRAKE_JERK (``self.amax``, ``self.jmax``). ``brakes``
+    counts the parts that started braking (or were moved back onto the bound), ``braked_at`` is
+    the last time.
     """
 
     def __init__(self, bound, max_lead: float, amax, jmax):
         self.bound = np.asarray(bound, dtype=float)
         self.max_lead = float(max_lead)
-        self.amax, self.jmax = amax, jmax
+        self.amax = BRAKE_ACCELERATION * np.asarray(amax, dtype=float)
+        self.jmax = BRAKE_JERK * np.asarray(jmax, dtype=float)
         self.brakes = 0
         self.braked_at = -np.inf
         self._t, self._x, self._v = None, None, None  # the measured velocity's estimate

@@ -213,8 +213,8 @@ class JointTrajectory(_Leashed):
         # unsynchronised: a stuck joint must not hold the others back (synchronised, they would
         # slow down to arrive with it, and never arrive)
         self._p.plan(
-            t, p0, qd, qdd, self._target, self.vmax, self.amax, self.jmax, synchronized=False,
-            braking=held,
+            t, p0, qd, qdd, self._target, self.vmax, np.where(held, self.leash.amax, self.amax),
+            np.where(held, self.leash.jmax, self.jmax), synchronized=False, braking=held,
         )
         self._braking = held
         return self.sample(t)
@@ -338,22 +338,22 @@ class CartesianTrajectory(_Leashed):
             axis = self._R0 @ self._axis  # the same axis (world), from the pose on the bound
             self._R0 = pose[:3, :3] @ pin.exp3(r0)
             self._axis = self._R0.T @ axis
-            self._ang.plan(t, [0.0], thd, thdd, [0.0], self.vmax[1:], self.amax[1:],
-                           self.jmax[1:], braking=True)
+            self._ang.plan(t, [0.0], thd, thdd, [0.0], self.vmax[1:], self.leash.amax[1:],
+                           self.leash.jmax[1:], braking=True)
         elif brake[1]:
             th, thd, thdd = self._ang.sample(t)
-            self._ang.plan(t, th, thd, thdd, th, self.vmax[1:], self.amax[1:], self.jmax[1:],
-                           braking=True)
+            self._ang.plan(t, th, thd, thdd, th, self.vmax[1:], self.leash.amax[1:],
+                           self.leash.jmax[1:], braking=True)
         elif resume[1]:
             self._plan_angular(t, ref[:3, :3], np.zeros(3), np.zeros(3))
         self._braking = (self._braking & ~resume) | ahead | brake
         return self.sample(t)
 
     def _brake_linear(self, t, p, v, a) -> None:
-        """Bring the position to rest along its velocity, as fast as the norm limits allow."""
+        """Bring the position to rest along its velocity, as fast as the brake's limits allow."""
         share = _share(v)
-        self._lin.plan(t, p, v, a, p, self.vmax[0] * share, self.amax[0] * share,
-                       self.jmax[0] * share, braking=True)
+        self._lin.plan(t, p, v, a, p, self.vmax[0] * share, self.leash.amax[0] * share,
+                       self.leash.jmax[0] * share, braking=True)
 
     def _lead(self, t, pose) -> float:
         """Return the reference's lead on ``pose`` at t, in bounds (1: on the leash)."""
