@@ -30,12 +30,14 @@ bound all the same (from the velocity limit, braking takes longer than the bound
 robot may move away) is moved back onto the bound and brakes on with the velocity and acceleration
 it had: the reference slides along the bound until it stops. At rest it waits there (a steady
 pull: the servo's gain times the lead, damping the robot's own velocity) and goes on to the same
-target once the robot has come within half the bound. Braking always ends at rest, so a reference
-never cruises on along its bound; it brakes harder than it cruises (5x the acceleration limit, 20x
-the jerk limit: a stop in tens of milliseconds, each millisecond's change of the acceleration fed
-forward a small fraction of a servo's pull), or a stretched arm at a target out of reach is driven
-by the velocity fed forward for the whole of a gentle stop (the lwr's joint 3 reached 6.8 rad/s
-braking at the cruise limits). ``following`` tells whether the servo follows (no brake in the
+target once the robot has come within a quarter of the bound (where braking cannot start). Braking
+always ends at rest, so a reference never cruises on along its bound. Two choices keep a stretched
+arm at a target out of reach from being whipped by the velocity fed forward, which it can only
+meet through a near-singular joint (the lwr's joint 3 driven past 6.7 rad/s, 2.2 rad/s its limit):
+a brake is harder than the cruise (5x the acceleration limit, 20x the jerk limit: a stop in tens
+of milliseconds, each millisecond's change of the acceleration fed forward still small), and a
+reference at rest waits until the robot has nearly caught up (going on within half the bound, the
+creeping arm set it off and braked it again and again). ``following`` tells whether the servo follows (no brake in the
 last ``max_lead`` seconds, the lead at most half the bound); when it does not, a new target is best
 started from the measured state, not from the reference on the leash ahead of it. Without a
 measured velocity, it is estimated from the measured positions (differences, low-passed).
@@ -150,7 +152,7 @@ class Leash:
         self._t_follow = t
         bound = self.bound
         ahead = lead > bound
-        resume = braking & at_rest & (lead <= 0.5 * bound) & ~ahead
+        resume = braking & at_rest & (lead <= 0.25 * bound) & ~ahead  # caught up
         coming = lead + np.maximum(rate, 0.0) * dt + stop_distance(rate, acc, self.amax, self.jmax)
         brake = ~braking & ~ahead & (rate > 0.0) & (lead > 0.25 * bound) & (coming > bound)
         started = (ahead & ~braking) | brake
