@@ -37,9 +37,11 @@ meet through a near-singular joint (the lwr's joint 3 driven past 6.7 rad/s, 2.2
 a brake is harder than the cruise (5x the acceleration limit, 20x the jerk limit: a stop in tens
 of milliseconds, each millisecond's change of the acceleration fed forward still small), and a
 reference at rest waits until the robot has nearly caught up (going on within half the bound, the
-creeping arm set it off and braked it again and again). ``following`` tells whether the servo follows (no brake in the
-last ``max_lead`` seconds, the lead at most half the bound); when it does not, a new target is best
-started from the measured state, not from the reference on the leash ahead of it. Without a
+creeping arm set it off and braked it again and again).
+
+``following`` tells whether the servo follows (no brake in the last ``max_lead`` seconds, the lead
+at most half the bound); when it does not, a new target is best started from the measured state,
+not from the reference on the leash ahead of it. Without a
 measured velocity, it is estimated from the measured positions (differences, low-passed).
 """
 
