@@ -41,8 +41,8 @@ creeping arm set it off and braked it again and again).
 
 ``following`` tells whether the servo follows (no brake in the last ``max_lead`` seconds, the lead
 at most half the bound); when it does not, a new target is best started from the measured state,
-not from the reference on the leash ahead of it. Without a
-measured velocity, it is estimated from the measured positions (differences, low-passed).
+not from the reference on the leash ahead of it. Without a measured velocity, it is estimated from
+the measured positions (differences, low-passed).
 """
 
 from __future__ import annotations
