@@ -144,12 +144,12 @@ class _Leashed:
 
     @property
     def lead(self) -> np.ndarray:
-        """The lead bound per part (see :mod:`orca_ros.servo.leash`)."""
+        """Return the lead bound per part (see :mod:`orca_ros.servo.leash`)."""
         return self.leash.bound
 
     @property
     def brakes(self) -> int:
-        """How many times a part braked on the leash (or was moved back onto it)."""
+        """Return how many times a part braked on the leash (or was moved back onto it)."""
         return self.leash.brakes
 
     def following(self, t: float, measured) -> bool:
