@@ -39,11 +39,12 @@ geometry (meshes as BVHs, not the constraint's rounded convex hulls): the least 
 the ball and any of the robot's bodies, and the least self distance over the pairs the constraint
 watches plus those it leaves out as 'never' (they cannot meet). Also the failed cycles, the
 largest torque step per cycle (all joints) and the largest outside the cycles where the
-reference's twist jumped (a trajectory restarted at rest on its leash dropped the twist fed
-forward to zero in one cycle; its leash now brakes it within limits), the final hand position
-error (a run stalls above 5 mm: the target is reachable, so the reachable point nearest it is
-the target), and for a stall what holds the hand: the constraint's rows within 5 mm of the
-safety distance at the end (the ball, self pairs), joints within 0.02 rad of a position limit.
+reference's twist jumped (the trajectory restarted on its leash, at rest: its reference 5 cm
+ahead of a hand held back, the twist fed forward dropped to zero in one cycle), the final hand
+position error (a run
+stalls above 5 mm: the target is reachable, so the reachable point nearest it is the target),
+and for a stall what holds the hand: the constraint's rows within 5 mm of the safety distance at
+the end (the ball, self pairs), joints within 0.02 rad of a position limit.
 
 Self collision: per arm, the hand sent (the same trajectory, its orientation kept) to a point
 inside its own base column (half-way from the base to the second joint, on the first joint's
@@ -102,8 +103,8 @@ MIN_MOVE = 0.10  # [m] the hand moves at least this far
 RADIUS = (0.04, 0.08)  # [m] the ball's
 SIDEWAYS = (0.02, 0.08)  # [m] the ball's centre off the straight line
 CLEAR = SAFETY + 0.02  # [m] the ball's least distance to the start and target postures
-# a change of the reference's twist in one cycle 10x what its acceleration limits allow (twice a
-# brake's on the leash): a jump (a trajectory restarted at rest on its leash, as it once was)
+# a change of the reference's twist in one cycle 10x what its acceleration limits allow: the
+# trajectory restarted on its leash (the hand held back 5 cm behind it), at rest
 JUMP = 10.0 * np.repeat(CARTESIAN['max_acceleration'], 3) * DT
 
 
@@ -456,9 +457,7 @@ class Bench:
                 col.add_obstacle('ball', 'sphere', [placement.radius], T)
             restart = False
             if t >= START:
-                reference = path.follow(
-                    t, servo.get_current_cartesian_pose(), servo.get_current_cartesian_velocity()
-                )
+                reference = path.follow(t, servo.get_current_cartesian_pose())
                 servo.set_desired(*reference)
                 jump = np.abs(reference[1] - twist) / JUMP
                 restart = bool(max(jump[:3].max(), jump[3:].max()) > 1.0)

@@ -98,9 +98,7 @@ def _run(example_robot_urdf, floors):
         t = k * DT
         robot.set_robot_state(q, v)
         if t >= 0.5:
-            servo.set_desired(*path.follow(
-                t, servo.get_current_cartesian_pose(), servo.get_current_cartesian_velocity()
-            ))
+            servo.set_desired(*path.follow(t, servo.get_current_cartesian_pose()))
         failures += not c.update(t, DT)
         taus.append(c.get_joint_torque_command())
         q, v = integrate(robot, q, v, taus[-1], DT)

@@ -150,7 +150,7 @@ def test_an_unreachable_target_inside_the_reach_keeps_the_reference_on_the_leash
     """
     30 cm further out with the same orientation: inside the sphere, out of reach all the same.
 
-    The reference brakes on the leash (WARN), the lasting error is in the log (WARN), and the
+    The reference restarts on the leash (WARN), the lasting error is in the log (WARN), and the
     way back is as from where the arm is.
     """
     probe, procs = arm

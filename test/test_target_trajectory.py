@@ -19,7 +19,6 @@ import pytest
 
 pytest.importorskip('ruckig')
 
-from orca_ros.servo.leash import AT_REST, BRAKE_ACCELERATION, BRAKE_JERK  # noqa: E402,I100
 from orca_ros.servo.target_trajectory import CartesianTrajectory  # noqa: E402,I100
 
 
@@ -63,15 +62,13 @@ def _at(p, rotvec=(0.0, 0.0, 0.0)):
     return T
 
 
-def test_a_reference_the_servo_cannot_follow_brakes_on_its_leash():
+def test_a_reference_the_servo_cannot_follow_restarts_from_the_measured_state():
     """
     The issue-22 case without ROS: the frame stuck, the target 10 m and 3 rad away, for 3 s.
 
     The reference never leads by more than the bound (0.2 s at the velocity limits: 5 cm,
-    0.2 rad); at the bound it stays (the pull does not drop: no sawtooth); it brakes there within
-    its limits (the velocity and acceleration fed forward never step: a step is a torque step);
-    the next target then takes about as long as from the measured pose, not as from a reference
-    metres away at speed.
+    0.2 rad); at the bound it stays (the pull does not drop: no sawtooth); the next target then
+    takes about as long as from the measured pose, not as from a reference metres away at speed.
     """
     measured = _at([0.5, 0.0, 0.5])
     far = _at([10.5, 0.0, 0.5], [0.0, 0.0, 3.0])
@@ -80,28 +77,16 @@ def test_a_reference_the_servo_cannot_follow_brakes_on_its_leash():
         traj.start(0.0, measured, np.zeros(6), np.zeros(6), far)
     bound = leashed.lead
     np.testing.assert_allclose(bound, [0.05, 0.2])
-    lin, ang, twist, acc = [], [], [], []
+    lin, ang = [], []
     for k in range(3001):
-        ref, v, a = leashed.follow(1e-3 * k, measured)
+        ref = leashed.follow(1e-3 * k, measured)[0]
         lin.append(np.linalg.norm(ref[:3, 3] - measured[:3, 3]))
         ang.append(np.linalg.norm(pin.log3(measured[:3, :3].T @ ref[:3, :3])))
-        twist.append(v)
-        acc.append(a)
     lin, ang = np.array(lin), np.array(ang)
-    # per 1 ms step: at most the brake's acceleration and jerk limits' worth (per axis: a
-    # straight line takes a share of the norm limits on each)
-    dv, da = np.abs(np.diff(twist, axis=0)), np.abs(np.diff(acc, axis=0))
-    for rows, k in ((slice(0, 3), 0), (slice(3, 6), 1)):
-        assert dv[:, rows].max() <= BRAKE_ACCELERATION * LIMITS[1][k] * 1e-3 * (1 + 1e-9)
-        assert da[:, rows].max() <= BRAKE_JERK * LIMITS[2][k] * 1e-3 * (1 + 1e-9)
-    assert np.abs(twist[-1]).max() <= AT_REST  # at rest on the leash
     assert lin.max() <= bound[0] + 1e-12 and ang.max() <= bound[1] + 1e-12
-    assert leashed.brakes > 0 and not leashed.following(3.0, measured)
-    # braking a cycle ahead (decisions are a cycle apart), it rests within two cycles' travel at
-    # the velocity limit of the bound, and stays
-    near = bound[0] - 2 * LIMITS[0][0] * 1e-3
-    first = np.argmax(lin >= near)
-    assert first > 0 and lin[first:].min() >= near
+    assert leashed.restarts > 0 and not leashed.following(3.0, measured)
+    first = np.argmax(lin >= bound[0] - 1e-9)
+    assert first > 0 and lin[first:].min() > bound[0] - 1e-6
     near = _at([0.5, 0.12, 0.41])  # 15 cm
     fresh = CartesianTrajectory(*LIMITS).start(3.0, measured, np.zeros(6), np.zeros(6), near)
     after = leashed.start(3.0, *leashed.follow(3.0, measured), near)
@@ -112,7 +97,7 @@ def test_a_reference_the_servo_cannot_follow_brakes_on_its_leash():
     assert before > fresh + 2.0  # what it was
 
 
-def test_a_servo_that_follows_never_brakes():
+def test_a_servo_that_follows_never_restarts():
     """Perfect tracking, then 4 mm and 0.02 rad behind: the reference is the plain sample."""
     start, target = _at([0.5, 0.0, 0.5]), _at([0.7, 0.2, 0.3], [0.0, 0.5, 0.5])
     traj, plain = CartesianTrajectory(*LIMITS), CartesianTrajectory(*LIMITS)
@@ -126,10 +111,10 @@ def test_a_servo_that_follows_never_brakes():
         got = traj.follow(t, behind)
         for a, b in zip(got, ref):
             np.testing.assert_array_equal(a, b)
-    assert traj.brakes == 0 and traj.following(t, plain.sample(t)[0] @ lag)
+    assert traj.restarts == 0 and traj.following(t, plain.sample(t)[0] @ lag)
 
 
-def test_a_stuck_joint_brakes_alone():
+def test_a_stuck_joint_restarts_alone():
     """Three joints, the second stuck: its reference stays on the leash, the others' go on."""
     from orca_ros.servo.target_trajectory import JointTrajectory
 
@@ -137,20 +122,14 @@ def test_a_stuck_joint_brakes_alone():
     q0, target = np.zeros(3), np.array([1.0, 2.0, -1.5])
     traj.start(0.0, q0, np.zeros(3), np.zeros(3), target)
     np.testing.assert_allclose(traj.lead, [0.2, 0.2, 0.4])
-    measured, refs, rates = q0.copy(), [], []
+    measured, refs = q0.copy(), []
     for k in range(4000):
         q, qd, _ = traj.follow(1e-3 * k, measured)
         refs.append(q)
-        rates.append(qd)
         measured[[0, 2]] = q[[0, 2]]  # those follow perfectly
     refs = np.array(refs)
-    # the stuck joint brakes within the brake's acceleration limit: its velocity never steps
-    assert np.abs(np.diff(np.array(rates)[:, 1])).max() <= BRAKE_ACCELERATION * 2.0 * 1e-3 * (
-        1 + 1e-9
-    )
-    # at rest within two cycles' travel (at 1 rad/s) of the bound: it brakes a cycle ahead
-    assert np.abs(refs[:, 1]).max() <= 0.2 + 1e-12 and refs[-1, 1] >= 0.2 - 2 * 1.0 * 1e-3
-    assert traj.brakes > 0
+    assert np.abs(refs[:, 1]).max() <= 0.2 + 1e-12 and refs[-1, 1] > 0.2 - 1e-6
+    assert traj.restarts > 0
     # the followers: continuous (no step beyond their speed limit) and at their targets
     steps = np.abs(np.diff(refs[:, [0, 2]], axis=0)).max(axis=0)
     assert (steps <= np.array([1.0, 2.0]) * 1e-3 + 1e-12).all(), steps

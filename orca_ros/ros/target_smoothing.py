@@ -23,9 +23,8 @@ current reference (or, when none runs or the servo does not follow it, from the 
 ``target_point`` and joint targets with velocities are trajectory points already and go to the
 servo as they are. Holding, resetting or expiring a target stops the trajectory. ``max_lead``
 [0.2 s]: the reference never leads the measured state by more than it covers in this time at
-``max_velocity``: a reference that would pass that leash brakes within its limits and waits on it
-(see :mod:`orca_ros.servo.target_trajectory`), and the log says so (WARN, at most once a second
-per task).
+``max_velocity``; beyond, it restarts on that leash (see :mod:`orca_ros.servo.target_trajectory`),
+and the log says so (WARN, at most once a second per task).
 
 Configured targets (``target_position`` of a Cartesian task, ``target`` of a joint task) are set
 before the robot is seen. At the first state (:meth:`TargetSmoothing.start_configured_targets`),
@@ -157,21 +156,19 @@ class TargetSmoothing:
         for name in list(self._running):
             task = self.setup.tasks[name]
             gen = self.trajectories[name]
-            brakes = gen.brakes
+            restarts = gen.restarts
             if isinstance(task, CartesianTask):
                 servo = task.servo_controller()
-                servo.set_desired(*gen.follow(
-                    t, servo.get_current_cartesian_pose(), servo.get_current_cartesian_velocity()
-                ))
+                servo.set_desired(*gen.follow(t, servo.get_current_cartesian_pose()))
             else:
-                task.set_desired(*gen.follow(t, self._q, self._v))
-            if gen.brakes != brakes:
+                task.set_desired(*gen.follow(t, self._q))
+            if gen.restarts != restarts:
                 bound = _lead_text(gen, isinstance(task, CartesianTask))
                 self.say(
                     'warning',
                     f'lead:{name}',
-                    f"task '{name}' cannot follow its trajectory: the reference brakes to hold "
-                    f'within {bound} of the measured state',
+                    f"task '{name}' cannot follow its trajectory: restarted from the measured "
+                    f'state (the reference led it by more than {bound})',
                 )
             if gen.finished(t):
                 self._running.discard(name)

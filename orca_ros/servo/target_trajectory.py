@@ -29,8 +29,22 @@ and acceleration (feed-forward). After the end the target is held.
   rest), the orientation as one rotation angle about the fixed axis from the start to the target
   orientation (angular velocity at the start projected on that axis).
 
-The reference never leads the measured state by more than a bound (:meth:`follow`): it brakes on
-its leash (:mod:`orca_ros.servo.leash`).
+The reference never leads the measured state by more than a bound (:meth:`follow`): the distance
+the reference covers in ``max_lead`` seconds [0.2 s] at its velocity limit (5 cm and 0.2 rad with
+the Cartesian defaults, 0.2 s of half the URDF velocity for joints). A servo that follows tracks
+within millimetres (the shipped arm: a few mm at most at 0.25 m/s, kp 400 with feed-forward), far
+inside it; a servo that cannot (a target out of reach, a constraint in the way) would leave the
+reference running on towards the target, and the next target would start from there, metres away
+and at full speed. Instead the part (position, orientation; or joint) beyond the bound restarts
+from the measured position, moved the bound towards the old reference, at rest (no velocity, no
+acceleration), to the same target; the rest goes on as it was. The servo then pulls with its gain
+times the bound and damps the robot's own velocity: a steady pull, no jolt back to nothing and no
+sawtooth (from exactly the measured state the pull would drop to zero at each restart), and no
+reference dragged along by a robot moving away (from the measured velocity, the servo's damping
+would vanish: seen through the nodes, the stretched arm wandered off by a metre). ``following``
+tells whether the servo follows (no restart in the last ``max_lead`` seconds, the lead at most half
+the bound); when it does not, a new target is best started from the measured state, not from the
+reference on the leash ahead of it.
 """
 
 from __future__ import annotations
@@ -38,7 +52,6 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from .leash import AT_REST, Leash, leashed, MAX_LEAD, pose_step
 from ..utils.optional_import import optional_import
 
 
@@ -62,6 +75,24 @@ def checked_limits(value, n: int, what: str) -> np.ndarray:
 
 # a state this close to its target (m or rad, per s, per s^2) is at it: no trajectory is planned
 _AT_TARGET = 1e-9
+# the reference leads the measured state by at most what it covers in this time at its velocity
+# limit (see the module)
+MAX_LEAD = 0.2
+
+
+def leashed(reference: np.ndarray, measured: np.ndarray, bound) -> np.ndarray | None:
+    """
+    Pull ``reference`` back to ``bound`` from ``measured`` (vectors); None when within it.
+
+    Per component with a vector ``bound`` (joints), in Euclidean norm with a scalar one.
+    """
+    d = reference - measured
+    if np.ndim(bound) == 0:
+        n = float(np.linalg.norm(d))
+        return None if not n > bound else measured + d * (bound / n)
+    if not (np.abs(d) > bound).any():
+        return None
+    return measured + np.clip(d, -bound, bound)
 
 
 class _Profile:
@@ -77,25 +108,10 @@ class _Profile:
         self.t0: float | None = None
         self._rest = None  # the target, when the state already is there (no trajectory)
 
-    def plan(
-        self, t0, p, v, a, target, vmax, amax, jmax, synchronized=True, braking=None
-    ) -> float:
-        """
-        Plan from (p, v, a) at t0; not ``synchronized``: every DoF as fast as it can.
-
-        ``braking`` (a mask, or True for all): those DoF are brought to rest as fast as the limits
-        allow (Ruckig's velocity interface), their target position ignored.
-        """
-        inp, rk = self._inp, self._rk
-        inp.synchronization = self.synchronization if synchronized else rk.Synchronization.No
-        mask = np.broadcast_to(np.asarray(False if braking is None else braking), (self.n,))
-        inp.control_interface = (
-            rk.ControlInterface.Velocity if mask.all() else rk.ControlInterface.Position
-        )
-        inp.per_dof_control_interface = (
-            [rk.ControlInterface.Velocity if b else rk.ControlInterface.Position for b in mask]
-            if mask.any() and not mask.all() else None
-        )
+    def plan(self, t0, p, v, a, target, vmax, amax, jmax, synchronized=True) -> float:
+        """Plan from (p, v, a) at t0; not ``synchronized``: every DoF as fast as it can."""
+        inp = self._inp
+        inp.synchronization = self.synchronization if synchronized else self._rk.Synchronization.No
         inp.current_position, inp.current_velocity, inp.current_acceleration = (
             list(p),
             list(v),
@@ -138,27 +154,27 @@ class _Profile:
 
 
 class _Leashed:
-    """What both trajectories tell of their leash (``self.leash``, ``self._lead``)."""
+    """The lead bound and the restarts of both trajectories (see the module)."""
 
-    leash: Leash
-
-    @property
-    def lead(self) -> np.ndarray:
-        """Return the lead bound per part (see :mod:`orca_ros.servo.leash`)."""
-        return self.leash.bound
-
-    @property
-    def brakes(self) -> int:
-        """Return how many times a part braked on the leash (or was moved back onto it)."""
-        return self.leash.brakes
+    def _leash(self, max_lead) -> None:
+        self.max_lead = float(checked_limits(max_lead, 1, 'max_lead')[0])
+        self.lead = self.max_lead * self.vmax
+        self.restarts = 0  # restarts from the measured state (follow)
+        self.restarted_at = -np.inf  # time of the last restart
 
     def following(self, t: float, measured) -> bool:
         """
-        Whether the servo follows: no brake in the last ``max_lead`` s, half the bound at most.
+        Whether the servo follows: no restart in the last ``max_lead`` s, half the bound at most.
 
         ``measured``: the joint positions, or the frame's pose.
         """
-        return self.leash.following(t, self._lead(t, measured))
+        return t - self.restarted_at > self.max_lead and self._lead(t, measured) <= 0.5
+
+    def _restart(self, t, position, velocity, acceleration, **how) -> None:
+        """Plan again to the target from a state on the leash."""
+        self.start(t, position, velocity, acceleration, self._target, **how)
+        self.restarts += 1
+        self.restarted_at = t
 
 
 class JointTrajectory(_Leashed):
@@ -166,11 +182,9 @@ class JointTrajectory(_Leashed):
         self.vmax = checked_limits(max_velocity, n, 'max_velocity')
         self.amax = checked_limits(max_acceleration, n, 'max_acceleration')
         self.jmax = checked_limits(max_jerk, n, 'max_jerk')
-        max_lead = float(checked_limits(max_lead, 1, 'max_lead')[0])
-        self.leash = Leash(max_lead * self.vmax, max_lead, self.amax, self.jmax)
+        self._leash(max_lead)
         self._p = _Profile(n)
         self._target = np.zeros(n)
-        self._braking = np.zeros(n, dtype=bool)
         self.active = False
 
     def start(self, t, position, velocity, acceleration, target, synchronized=True) -> float:
@@ -184,39 +198,25 @@ class JointTrajectory(_Leashed):
             synchronized,
         )
         self._target = np.array(target, dtype=float)
-        self._braking[:] = False
         self.active = True
         return d
 
-    def follow(self, t: float, position, velocity=None):
+    def follow(self, t: float, position):
         """
         (q, qd, qdd) at time t, within the lead bound of the measured ``position``.
 
-        ``velocity``: the measured joint velocities (None: estimated from the positions). Joints
-        that would pass the bound brake, alone (see the module).
+        The joints further ahead restart on the leash, at rest (see the module).
         """
         q, qd, qdd = self.sample(t)
         position = np.asarray(position, dtype=float)
-        vm = self.leash.measured_velocity(t, position, np.subtract, velocity)
-        vm = np.zeros_like(q) if vm is None else vm
-        d = q - position
-        side = np.sign(d)
-        at_rest = (np.abs(qd) <= AT_REST) & (np.abs(qdd) <= AT_REST)
-        resume, ahead, brake = self.leash.decide(
-            t, np.abs(d), side * (qd - vm), side * qdd, self._braking, at_rest
-        )
-        if not (resume.any() or ahead.any() or brake.any()):
+        q0 = leashed(q, position, self.lead)
+        if q0 is None:
             return q, qd, qdd
-        # past the bound: moved back onto it, braking on from the velocity and acceleration it had
-        p0 = np.where(ahead, position + np.clip(d, -self.lead, self.lead), q)
-        held = (self._braking & ~resume) | ahead | brake
+        ahead = np.abs(q - position) > self.lead  # the others go on as they were
+        q0, qd, qdd = np.where(ahead, q0, q), np.where(ahead, 0.0, qd), np.where(ahead, 0.0, qdd)
         # unsynchronised: a stuck joint must not hold the others back (synchronised, they would
         # slow down to arrive with it, and never arrive)
-        self._p.plan(
-            t, p0, qd, qdd, self._target, self.vmax, np.where(held, self.leash.amax, self.amax),
-            np.where(held, self.leash.jmax, self.jmax), synchronized=False, braking=held,
-        )
-        self._braking = held
+        self._restart(t, q0, qd, qdd, synchronized=False)
         return self.sample(t)
 
     def _lead(self, t, position) -> float:
@@ -228,14 +228,7 @@ class JointTrajectory(_Leashed):
         return self._p.sample(t)
 
     def finished(self, t: float) -> bool:
-        return self._p.done(t) and not self._braking.any()
-
-
-def _share(direction) -> np.ndarray:
-    """Per-axis shares of the norm limits for a straight line along ``direction``."""
-    n = float(np.linalg.norm(direction))
-    share = np.abs(direction) / n if n > 1e-9 else np.full(3, 1.0 / np.sqrt(3.0))
-    return np.maximum(share, 1e-3)
+        return self._p.done(t)
 
 
 class CartesianTrajectory(_Leashed):
@@ -248,14 +241,12 @@ class CartesianTrajectory(_Leashed):
         self.vmax = checked_limits(max_velocity, 2, 'max_velocity [linear, angular]')
         self.amax = checked_limits(max_acceleration, 2, 'max_acceleration [linear, angular]')
         self.jmax = checked_limits(max_jerk, 2, 'max_jerk [linear, angular]')
-        max_lead = float(checked_limits(max_lead, 1, 'max_lead')[0])
-        self.leash = Leash(max_lead * self.vmax, max_lead, self.amax, self.jmax)
+        self._leash(max_lead)
         self._target = np.eye(4)
         self._lin = _Profile(3, 'Phase')
         self._ang = _Profile(1)
         self._R0 = np.eye(3)
         self._axis = np.array([0.0, 0.0, 1.0])
-        self._braking = np.zeros(2, dtype=bool)  # [position, orientation] held on the leash
         self.active = False
         self._out = np.eye(4)
 
@@ -267,93 +258,67 @@ class CartesianTrajectory(_Leashed):
         """
         pose, target = np.asarray(pose, dtype=float), np.asarray(target, dtype=float)
         twist, acceleration = np.asarray(twist, dtype=float), np.asarray(acceleration, dtype=float)
-        self._target = target.copy()
-        self._braking[:] = False
-        lin = self._plan_linear(t, pose[:3, 3], twist[:3], acceleration[:3])
-        ang = self._plan_angular(t, pose[:3, :3], twist[3:], acceleration[3:])
-        self.active = True
-        return max(lin, ang)
-
-    def _plan_linear(self, t, p, v, a) -> float:
-        """Plan the position's straight line from (p, v, a) to the target's."""
-        target = self._target[:3, 3]
+        d = target[:3, 3] - pose[:3, 3]
+        dist = float(np.linalg.norm(d))
         # per-axis limits in proportion to the direction: from rest, a straight line within the
         # norm limits. A start velocity across it (a measured one) gets its share too, or braking
         # it on an axis with a thousandth of the limits takes longer than Ruckig plans (-101)
-        share = _share(target - p)
-        speed = float(np.linalg.norm(v))
+        share = np.abs(d) / dist if dist > 1e-9 else np.full(3, 1.0 / np.sqrt(3.0))
+        speed = float(np.linalg.norm(twist[:3]))
         if speed > 1e-6:
-            share = np.maximum(share, np.abs(v) / speed)
-        return self._lin.plan(
-            t, p, v, a, target, self.vmax[0] * share, self.amax[0] * share, self.jmax[0] * share
+            share = np.maximum(share, np.abs(twist[:3]) / speed)
+        share = np.maximum(share, 1e-3)
+        lin = self._lin.plan(
+            t,
+            pose[:3, 3],
+            twist[:3],
+            acceleration[:3],
+            target[:3, 3],
+            self.vmax[0] * share,
+            self.amax[0] * share,
+            self.jmax[0] * share,
         )
-
-    def _plan_angular(self, t, R, w, a) -> float:
-        """Plan the rotation about one fixed axis from R (angular velocity w, acceleration a)."""
-        self._R0 = np.array(R, dtype=float)
-        rotvec = pin.log3(self._R0.T @ self._target[:3, :3])  # in the start frame
+        self._R0 = pose[:3, :3].copy()
+        rotvec = pin.log3(self._R0.T @ target[:3, :3])  # in the start frame
         angle = float(np.linalg.norm(rotvec))
         self._axis = rotvec / angle if angle > 1e-12 else np.array([0.0, 0.0, 1.0])
         axis_base = self._R0 @ self._axis
-        return self._ang.plan(
-            t, [0.0], [float(axis_base @ w)], [float(axis_base @ a)], [angle],
-            self.vmax[1:], self.amax[1:], self.jmax[1:],
+        ang = self._ang.plan(
+            t,
+            [0.0],
+            [float(axis_base @ twist[3:])],
+            [float(axis_base @ acceleration[3:])],
+            [angle],
+            self.vmax[1:],
+            self.amax[1:],
+            self.jmax[1:],
         )
+        self._target = target.copy()
+        self.active = True
+        return max(lin, ang)
 
-    def follow(self, t: float, pose, twist=None):
+    def follow(self, t: float, pose):
         """
         (pose, twist, acceleration) at time t, within the lead bound of the measured ``pose``.
 
-        ``twist``: the measured one ([linear, angular], base frame; None: estimated from the
-        poses). The position or orientation that would pass the bound brakes (see the module).
+        The position or orientation further ahead restarts on the leash, at rest (see the module).
         """
         ref, v, a = self.sample(t)
         pose = np.asarray(pose, dtype=float)
-        vm = self.leash.measured_velocity(t, pose, pose_step, twist)
-        vm = np.zeros(6) if vm is None else vm
-        d = ref[:3, 3] - pose[:3, 3]
-        turn = pose[:3, :3] @ _turn(pose, ref)  # world axes
-        lead = np.array([np.linalg.norm(d), np.linalg.norm(turn)])
-        u = [x / n if n > 0.0 else np.zeros(3) for x, n in zip((d, turn), lead)]
-        rate = np.array([u[0] @ (v[:3] - vm[:3]), u[1] @ (v[3:] - vm[3:])])
-        acc = np.array([u[0] @ a[:3], u[1] @ a[3:]])
-        at_rest = np.array([
-            max(np.abs(v[:3]).max(), np.abs(a[:3]).max()) <= AT_REST,
-            max(np.abs(v[3:]).max(), np.abs(a[3:]).max()) <= AT_REST,
-        ])
-        resume, ahead, brake = self.leash.decide(t, lead, rate, acc, self._braking, at_rest)
-        if not (resume.any() or ahead.any() or brake.any()):
+        p0 = leashed(ref[:3, 3], pose[:3, 3], self.lead[0])
+        r0 = leashed(_turn(pose, ref), np.zeros(3), self.lead[1])
+        if p0 is None and r0 is None:
             return ref, v, a
-        # past the bound: moved back onto it, braking on from the twist and acceleration it had
-        if ahead[0]:
-            p0 = leashed(ref[:3, 3], pose[:3, 3], self.lead[0])
-            self._brake_linear(t, p0, v[:3], a[:3])
-        elif brake[0]:
-            self._brake_linear(t, ref[:3, 3], v[:3], a[:3])
-        elif resume[0]:
-            self._plan_linear(t, ref[:3, 3], np.zeros(3), np.zeros(3))
-        if ahead[1]:
-            r0 = leashed(_turn(pose, ref), np.zeros(3), self.lead[1])
-            th, thd, thdd = self._ang.sample(t)
-            axis = self._R0 @ self._axis  # the same axis (world), from the pose on the bound
-            self._R0 = pose[:3, :3] @ pin.exp3(r0)
-            self._axis = self._R0.T @ axis
-            self._ang.plan(t, [0.0], thd, thdd, [0.0], self.vmax[1:], self.leash.amax[1:],
-                           self.leash.jmax[1:], braking=True)
-        elif brake[1]:
-            th, thd, thdd = self._ang.sample(t)
-            self._ang.plan(t, th, thd, thdd, th, self.vmax[1:], self.leash.amax[1:],
-                           self.leash.jmax[1:], braking=True)
-        elif resume[1]:
-            self._plan_angular(t, ref[:3, :3], np.zeros(3), np.zeros(3))
-        self._braking = (self._braking & ~resume) | ahead | brake
+        start = ref.copy()
+        for part, rows, fix in ((p0, slice(0, 3), 0), (r0, slice(3, 6), 1)):
+            if part is not None:
+                v[rows], a[rows] = 0.0, 0.0
+                if fix:
+                    start[:3, :3] = pose[:3, :3] @ pin.exp3(part)
+                else:
+                    start[:3, 3] = part
+        self._restart(t, start, v, a)
         return self.sample(t)
-
-    def _brake_linear(self, t, p, v, a) -> None:
-        """Bring the position to rest along its velocity, as fast as the brake's limits allow."""
-        share = _share(v)
-        self._lin.plan(t, p, v, a, p, self.vmax[0] * share, self.leash.amax[0] * share,
-                       self.leash.jmax[0] * share, braking=True)
 
     def _lead(self, t, pose) -> float:
         """Return the reference's lead on ``pose`` at t, in bounds (1: on the leash)."""
@@ -376,7 +341,7 @@ class CartesianTrajectory(_Leashed):
         )
 
     def finished(self, t: float) -> bool:
-        return self._lin.done(t) and self._ang.done(t) and not self._braking.any()
+        return self._lin.done(t) and self._ang.done(t)
 
 
 def _turn(pose, ref) -> np.ndarray:
