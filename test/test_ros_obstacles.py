@@ -29,6 +29,8 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 RADIUS, SPEED = 0.05, 0.3  # the ball [m], its speed towards the hand [m/s]
 SAFETY = 0.02  # the constraint's default
+DT = 0.001  # the bridge's control period: one simulated step per command in lockstep
+RELAY = '/probe/relayed_commands'
 
 
 def _marker(centre=(0.0, 0.0, 0.0), action=Marker.ADD, kind=Marker.SPHERE, scale=2 * RADIUS,
@@ -75,13 +77,14 @@ class _Distance:
         return best
 
 
-def _start_arm_with_collision(procs):
+def _start_arm_with_collision(procs, *args):
     """Start the shipped lwr configuration in lockstep, plus a collision constraint (defaults)."""
     procs.start_arm(
         'lockstep',
         controller_args=(
             '-p', 'constraints.names:=[torque_limit, position_limit, velocity_limit, collision]',
             '-p', 'constraints.collision.type:=collision_avoidance',
+            *args,
         ),
     )
 
@@ -89,8 +92,12 @@ def _start_arm_with_collision(procs):
 def test_the_arm_yields_to_a_ball_and_returns_when_it_is_deleted(tmp_path):
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    _start_arm_with_collision(procs)
-    probe = Probe(domain)
+    # the probe relays the commands: the loop advances one simulated step per command it
+    # forwards, and the ball's pose for the next step goes out before each (its pose on time
+    # whatever the machine's load; from the probe's own, lagging copy of the simulated time, a
+    # loaded machine's poses reached the controller up to 170 ms late, past max_extrapolation)
+    _start_arm_with_collision(procs, '-p', f'command_topic:={RELAY}')
+    probe = Probe(domain, relay_from=RELAY)
     pub = probe.node.create_publisher(MarkerArray, '/orca_controller/obstacles', 10)
     distance = _Distance()
 
@@ -113,26 +120,30 @@ def test_the_arm_yields_to_a_ball_and_returns_when_it_is_deleted(tmp_path):
             probe.wait_for(lambda: send(m) or line in procs.log('controller'), 60, line)
             assert cause in procs.log('controller'), (cause, procs.log('controller')[-2000:])
         # the ball comes at the hand from the side (y: across the arm's plane) at 0.3 m/s, from
-        # 0.25 m away, and goes 0.1 m past where the hand was
+        # 0.25 m away, goes 0.1 m past where the hand was and stops there (its velocity drops
+        # to 0 in one step)
         start = hand0 - [0.0, 0.25, 0.0]
         t0 = probe.sim_time()
-        track = []  # (sim time, the ball's centre sent)
-        while True:
-            t = probe.sim_time()
-            travel = min(SPEED * (t - t0), 0.35)
-            centre = start + [0.0, travel, 0.0]
-            send(_marker(centre, stamp=t))
-            track.append((t, centre))
-            if travel >= 0.35 and t - t0 > 1.6:
-                break
-            probe.wait_for(lambda: probe.sim_time() > t, 30, 'a step')
+
+        def ball(t):
+            return start + [0.0, min(SPEED * max(t - t0, 0.0), 0.35), 0.0]
+
+        sent = [t0]
+
+        def pose_next_step():
+            # the instant the command being relayed leads to: one step after the state it
+            # answers, and after the last pose's
+            t = max(probe.sim_time() + DT, sent[-1] + DT)
+            send(_marker(ball(t), stamp=t))
+            sent.append(t)
+
+        probe.relay_hook = pose_next_step
+        probe.wait_for(lambda: probe.sim_time() > t0 + 1.6, 300, "the ball's pass")
+        probe.relay_hook = None
+        assert not probe.relay_errors, probe.relay_errors
         with probe.lock:
-            states = [s for s in probe.states if t0 <= s[0]]
-        times = np.array([t for t, _ in track])
-        least = np.inf
-        for stamp, q, _ in states:
-            k = max(0, int(np.searchsorted(times, stamp, side='right')) - 2)  # the ball as sent
-            least = min(least, distance(q, track[k][1]))  # before the state's command
+            states = [s for s in probe.states if t0 <= s[0] <= sent[-1]]
+        least = min(distance(q, ball(stamp)) for stamp, q, _ in states)
         # how far the hand went from where it held while the ball passed through that place
         moved = max(np.linalg.norm(distance.hand(q) - hand0) for _, q, _ in states)
         step = probe.max_torque_step(t0, probe.sim_time())
