@@ -148,7 +148,7 @@ class PyBulletBridge(GuardedNode, SimObstacles):
         self._state_map = self.model.joint_map(joints + self.held)
         self._order = self._cmd_map.sim_index
         self.effort_limit = np.array(
-            [e if e > 0 else np.inf for e in np.array(self.model._effort)[self._order]]
+            [e if e > 0 else np.inf for e in self.model.get_joint_effort_limits()[self._order]]
         )
         # the hardware's own model (Pinocchio, same URDF): emulated gravity compensation and the
         # watchdog's hold

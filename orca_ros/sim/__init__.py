@@ -11,7 +11,13 @@
 # WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
 # See the License for the specific language governing permissions and
 # limitations under the License.
-"""PyBullet stand-in for robot hardware (no ROS)."""
+"""
+Simulated robot hardware (no ROS): PyBullet (``SimServer``, ``SimModel``) and MuJoCo.
+
+MuJoCo's world keeps the same contract: ``orca_ros.sim.mujoco_server.MujocoServer`` and the
+robots it inserts, ``orca_ros.sim.mujoco_model.MujocoModel`` (imported from their modules, so that
+the PyBullet world needs no MuJoCo).
+"""
 
 from .base_hold import BaseHold
 from .contacts import ContactPoint

@@ -125,6 +125,10 @@ class SimModel(ContactsMixin):
     def get_nr_of_degrees_of_freedom(self) -> int:
         return self.ndof
 
+    def get_joint_effort_limits(self) -> np.ndarray:
+        """Return the URDF effort limits in this model's order (0: none given)."""
+        return np.array(self._effort, dtype=float)
+
     def joint_map(self, names) -> JointMap:
         """Map between arrays ordered like ``names`` and this model's (PyBullet's) order."""
         return JointMap(self._joint_names, names, self.name)

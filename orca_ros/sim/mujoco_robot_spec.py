@@ -1,0 +1,116 @@
+# Copyright 2026 orca_ros developers
+#
+# Licensed under the Apache License, Version 2.0 (the "License");
+# you may not use this file except in compliance with the License.
+# You may obtain a copy of the License at
+#
+#     http://www.apache.org/licenses/LICENSE-2.0
+#
+# Unless required by applicable law or agreed to in writing, software
+# distributed under the License is distributed on an "AS IS" BASIS,
+# WITHOUT WARRANTIES OR CONDITIONS OF ANY KIND, either express or implied.
+# See the License for the specific language governing permissions and
+# limitations under the License.
+"""
+A URDF robot as a MuJoCo model specification (``mujoco.MjSpec``), ready to attach to a world.
+
+MuJoCo's URDF importer is made to give the robot the controller's model (Pinocchio's, from the
+same file):
+
+* ``package://`` and relative mesh names resolved to absolute paths as for PyBullet
+  (:func:`~orca_ros.robot.urdf_text.resolve_package_uris`): MuJoCo knows no packages;
+* every link stays a body (``fusestatic`` off): frames on fixed joints (a tool flange, a foot)
+  are looked up by name as in the URDF;
+* links without ``<inertial>`` on fixed joints (or the root) are massless, as URDF and Pinocchio
+  read them (MuJoCo would give them the mass of their collision shapes at 1000 kg/m^3);
+  degenerate inertias (Go1's dummy root: 1e-6 kg, a singular tensor) are bounded and balanced
+  (``boundinertia``, ``balanceinertia``) instead of refusing the file;
+* visual geometry dropped; the robot's collision shapes do not touch each other (PyBullet's
+  default, without self-collision) but touch the ground and other robots: ``contype`` and
+  ``conaffinity`` bits per robot;
+* a floating base gets a free joint on the root link: ``qpos`` = (x, y, z, qw, qx, qy, qz) of
+  the URDF base link frame, ``qvel`` = (linear velocity in world axes, angular in the base frame);
+* one position actuator per joint, inert (zero gains) until a joint is servoed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+import xml.etree.ElementTree as ET
+
+import mujoco
+
+from ..robot.urdf_text import resolve_package_uris
+
+#: contype / conaffinity are int32 bit masks
+ALL_BITS = 0x7FFFFFFF
+_MOVING = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
+
+
+@dataclass
+class RobotSpec:
+    """A robot's specification and the names the simulation addresses it by."""
+
+    spec: mujoco.MjSpec
+    joints: list  # the moving joints, in the URDF file's order (as PyBullet numbers them)
+    links: list  # every link (body)
+    base: str  # the root link
+
+
+def servo_name(joint: str) -> str:
+    """Name of the position actuator of ``joint``."""
+    return f'servo_{joint}'
+
+
+def robot_spec(urdf_path: str, position, orientation_xyzw, fixed_base: bool, collision_bit: int,
+               package_dirs=None) -> RobotSpec:
+    """
+    Parse ``urdf_path`` into a specification placed at ``position`` / ``orientation_xyzw``.
+
+    ``collision_bit``: this robot's contact bit (1 << k, k >= 1; bit 0 is the ground's). Raises
+    ``ValueError`` naming the file when MuJoCo cannot read it.
+    """
+    with open(urdf_path) as fh:
+        text = resolve_package_uris(fh.read(), urdf_path, package_dirs)
+    try:
+        root = ET.fromstring(text)
+        spec = mujoco.MjSpec.from_string(text)
+    except (ET.ParseError, ValueError) as exc:
+        raise ValueError(f"MuJoCo cannot read '{urdf_path}': {exc}") from exc
+    spec.compiler.fusestatic = False
+    spec.compiler.discardvisual = True
+    spec.compiler.boundinertia = 1e-9
+    spec.compiler.balanceinertia = True
+    _massless_as_in_the_urdf(spec, root, fixed_base)
+    base = spec.worldbody.bodies[0]
+    x, y, z, w = (float(c) for c in orientation_xyzw)
+    base.pos, base.quat = [float(c) for c in position], [w, x, y, z]
+    if not fixed_base:
+        base.add_freejoint(name='root')
+    for g in spec.geoms:
+        if g.contype or g.conaffinity:
+            g.contype, g.conaffinity = collision_bit, ALL_BITS & ~collision_bit
+    joints = [j.name for j in spec.joints if int(j.type) in _MOVING]
+    for name in joints:
+        actuator = spec.add_actuator(name=servo_name(name), target=name,
+                                     trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        actuator.set_to_position(kp=0.0)
+    links = [b.name for b in spec.bodies if b.name != 'world']
+    return RobotSpec(spec, joints, links, base.name)
+
+
+def _massless_as_in_the_urdf(spec, root, fixed_base: bool) -> None:
+    """
+    Links without ``<inertial>`` on fixed joints get no mass (see the module).
+
+    The root too on a fixed base; a floating root keeps what MuJoCo gives it (a moving body
+    without mass is refused by MuJoCo).
+    """
+    children = {j.find('child').get('link'): j.get('type') for j in root.findall('joint')}
+    for link in root.findall('link'):
+        name = link.get('name')
+        fixed = children.get(name, 'fixed' if fixed_base else 'free') == 'fixed'
+        if link.find('inertial') is None and fixed:
+            body = spec.body(name)
+            body.explicitinertial = True
+            body.mass, body.inertia = 0.0, [0.0, 0.0, 0.0]
