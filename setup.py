@@ -63,6 +63,7 @@ setup(
             'plot = orca_ros.recording.plot_command:main',
             'orca_controller = orca_ros.ros.controller_node:main',
             'pybullet_bridge = orca_ros.ros.pybullet_bridge:main',
+            'mujoco_bridge = orca_ros.ros.mujoco_bridge:main',
             'web_view = orca_ros.ros.web_view:main',
         ],
     },

@@ -18,6 +18,10 @@ The same robot moves the same under the same commands, a floating base lands and
 contacts, brakes and servos hold.
 """
 
+import os
+import subprocess
+import sys
+
 import numpy as np
 import orca_ros as orca
 from orca_ros.sim import SimServer
@@ -193,3 +197,77 @@ def test_brakes_and_servos_hold_the_arm():
     with pytest.raises(ValueError, match="no link 'nowhere'"):
         robot.get_link_position('nowhere')
     world.shutdown()
+
+
+@pytest.mark.parametrize('world_class', [SimServer, MujocoServer])
+def test_obstacles_are_placed_moved_measured_and_removed(world_class):
+    """
+    Both worlds' obstacles keep one contract (the bridges' ``~/obstacles`` rely on it).
+
+    A ball 5 cm round clear of the lwr goes into none of its links; centred on the arm's axis at
+    0.6 m it goes 115 mm into link_3 (the ball's radius plus the link's: the same geometry in both
+    worlds, to 1 mm: MuJoCo's hull of the link's mesh); removing one leaves the others in place.
+    """
+    world = world_class()
+    arm = world.insert_model_from_urdf_file(orca.default_urdf_path())
+    clear, onto = np.eye(4), np.eye(4)
+    clear[:3, 3], onto[:3, 3] = [0.3, 0.0, 0.5], [0.0, 0.0, 0.6]
+    world.obstacles.add('ball', 'sphere', [0.05], clear)
+    world.obstacles.add('box', 'box', [0.1, 0.2, 0.3], clear)
+    world.obstacles.add('can', 'cylinder', [0.05, 0.2], clear)
+    assert world.obstacles.depth_into('ball', arm) == (0.0, '')
+    world.obstacles.move('ball', onto)
+    depth, link = world.obstacles.depth_into('ball', arm)
+    print(f'{world_class.__name__}: the ball {depth * 1e3:.2f} mm into {link}')
+    assert link == 'link_3' and abs(depth - 0.1155) < 1e-3
+    np.testing.assert_allclose(world.obstacles.pose('ball'), onto, atol=1e-12)
+    world.step(5)
+    world.obstacles.remove('ball')
+    assert world.obstacles.names() == ['box', 'can']
+    np.testing.assert_allclose(world.obstacles.pose('box'), clear, atol=1e-12)
+    world.step(5)
+    world.shutdown()
+
+
+@pytest.mark.parametrize('world_class', [SimServer, MujocoServer])
+def test_the_base_hold_holds_then_gives_way(world_class, example_robot_urdf):
+    """
+    Hold Solo12's base 0.5 m up, then let it go.
+
+    1 s later its base is where placed (0.1 mm: the crane's stiffness against the legs swinging
+    down); released over 0.2 s, it falls to the ground.
+    """
+    urdf = example_robot_urdf('solo_description/robots/solo12.urdf')
+    world = world_class()
+    robot = world.insert_model_from_urdf_file(urdf, (0.0, 0.0, 0.5), fixed_base=False)
+    robot.set_model_configuration(robot.get_joint_names(), np.tile([0.0, 0.8, -1.6], 4))
+    hold = world.hold_base(robot)
+    placed = robot.get_world_to_base_transform()[:3, 3].copy()
+    world.step(1000)
+    held = np.linalg.norm(robot.get_world_to_base_transform()[:3, 3] - placed)
+    hold.release(world.get_time(), 0.2)
+    world.step(400)
+    low = robot.get_world_to_base_transform()[2, 3]
+    print(f'{world_class.__name__}: held {held * 1e3:.4f} mm from where placed; released, the '
+          f'base at {low:.3f} m')
+    assert held < 1e-4 and not hold.holding and low < 0.1
+    world.shutdown()
+
+
+def test_without_mujoco_one_line(tmp_path):
+    """A Python without MuJoCo: ``mujoco_bridge`` says so in one line; the rest imports."""
+    (tmp_path / 'mujoco.py').write_text(
+        "raise ModuleNotFoundError(\"No module named 'mujoco'\", name='mujoco')\n"
+    )
+    env = {**os.environ, 'PYTHONPATH': str(tmp_path)}
+    res = subprocess.run([sys.executable, '-m', 'orca_ros.ros.mujoco_bridge'], env=env,
+                         capture_output=True, text=True, timeout=60)
+    lines = [x for x in (res.stdout + res.stderr).strip().splitlines()
+             if not x.startswith('pybullet build time')]  # PyBullet's own banner at import
+    assert res.returncode == 1
+    assert lines == ["mujoco_bridge needs the Python package 'mujoco': pip install mujoco==4.0.0"]
+    res = subprocess.run(
+        [sys.executable, '-c', 'import orca_ros.sim, orca_ros.ros.pybullet_bridge, '
+         'orca_ros.ros.sim_bridge, orca_ros.ros.sim_obstacles'],
+        env=env, capture_output=True, text=True, timeout=60)
+    assert res.returncode == 0, res.stderr

@@ -26,13 +26,15 @@ import pytest
 from std_srvs.srv import SetBool, Trigger
 
 
-@pytest.fixture(scope='module')
-def system(tmp_path_factory):
+@pytest.fixture(scope='module', params=['pybullet', 'mujoco'])
+def system(tmp_path_factory, request):
+    """Start the shipped arm in lockstep on each simulator's bridge (the same contract)."""
     tmp = tmp_path_factory.mktemp('ros')
     domain = free_domain_id()
     procs = Procs(domain, str(tmp))
-    procs.start_arm('lockstep')
+    procs.start_arm('lockstep', simulator=request.param)
     probe = Probe(domain)
+    probe.bridge = f'/{request.param}_bridge'
     try:
         probe.wait_for(lambda: probe.sim_time() > 1.0, 60, 'the controller driving the bridge')
         yield probe, procs
@@ -142,7 +144,8 @@ def test_lockstep_runs_are_deterministic(tmp_path):
     )  # it did move
 
 
-def test_lockstep_steps_once_per_answered_instant(tmp_path):
+@pytest.mark.parametrize('simulator', ['pybullet', 'mujoco'])
+def test_lockstep_steps_once_per_answered_instant(tmp_path, simulator):
     """
     A command that names the state it answers steps that instant only, however often it comes.
 
@@ -163,7 +166,7 @@ def test_lockstep_steps_once_per_answered_instant(tmp_path):
 
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    procs.start_arm_bridge('lockstep')
+    procs.start_arm_bridge('lockstep', simulator=simulator)
     probe = Probe(domain)
     pub = probe.node.create_publisher(
         Float64MultiArray, '/effort_controller/commands', COMMAND_WRITER_QOS
@@ -211,7 +214,7 @@ def test_pause_enable_and_diagnostics(system):
     # bridge pause: simulated time stops. Paused, the lockstep bridge re-announces its frozen
     # state (once no command has come for 0.2 s; the controller answers each with the same
     # command): five announcements in a row of one instant, and nothing newer
-    assert probe.call(Trigger, '/pybullet_bridge/pause', Trigger.Request()).success
+    assert probe.call(Trigger, f'{probe.bridge}/pause', Trigger.Request()).success
     n = len(probe.states)
 
     def stamps():
@@ -226,7 +229,7 @@ def test_pause_enable_and_diagnostics(system):
     t_paused = stamps()[-1]
     assert max(stamps()) == t_paused
     # unpause resumes it
-    assert probe.call(Trigger, '/pybullet_bridge/unpause', Trigger.Request()).success
+    assert probe.call(Trigger, f'{probe.bridge}/unpause', Trigger.Request()).success
     probe.wait_sim(0.5)
     # disable: the controller holds with the safe command and says so on /diagnostics; enable
     # resumes

@@ -25,6 +25,7 @@ import orca_ros as orca
 from orca_ros.ros.launch_free import free_domain_id, Procs
 from orca_ros.ros.probe import Probe
 import pinocchio as pin
+import pytest
 from visualization_msgs.msg import Marker, MarkerArray
 
 RADIUS, SPEED = 0.05, 0.3  # the ball [m], its speed towards the hand [m/s]
@@ -77,10 +78,11 @@ class _Distance:
         return best
 
 
-def _start_arm_with_collision(procs, *args):
+def _start_arm_with_collision(procs, *args, simulator='pybullet'):
     """Start the shipped lwr configuration in lockstep, plus a collision constraint (defaults)."""
     procs.start_arm(
         'lockstep',
+        simulator=simulator,
         controller_args=(
             '-p', 'constraints.names:=[torque_limit, position_limit, velocity_limit, collision]',
             '-p', 'constraints.collision.type:=collision_avoidance',
@@ -173,7 +175,9 @@ def test_the_arm_yields_to_a_ball_and_returns_when_it_is_deleted(tmp_path):
         procs.stop()
 
 
-def test_an_absurd_obstacle_is_named_held_safe_and_its_deletion_restores_control(tmp_path):
+@pytest.mark.parametrize('simulator', ['pybullet', 'mujoco'])
+def test_an_absurd_obstacle_is_named_held_safe_and_its_deletion_restores_control(tmp_path,
+                                                                                 simulator):
     """
     A ball of 100 m round the base (metres for centimetres): the QP has no solution.
 
@@ -184,7 +188,7 @@ def test_an_absurd_obstacle_is_named_held_safe_and_its_deletion_restores_control
     """
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    _start_arm_with_collision(procs)
+    _start_arm_with_collision(procs, simulator=simulator)
     probe = Probe(domain)
     pub = probe.node.create_publisher(MarkerArray, '/orca_controller/obstacles', 10)
     diagnosed = 'QP failure diagnosis'
@@ -240,7 +244,8 @@ def test_an_absurd_obstacle_is_named_held_safe_and_its_deletion_restores_control
         procs.stop()
 
 
-def test_the_bridge_puts_the_obstacles_in_the_simulation(tmp_path):
+@pytest.mark.parametrize('simulator', ['pybullet', 'mujoco'])
+def test_the_bridge_puts_the_obstacles_in_the_simulation(tmp_path, simulator):
     """
     A wall published on the controller's topic stops the hand physically; DELETE frees it.
 
@@ -249,7 +254,7 @@ def test_the_bridge_puts_the_obstacles_in_the_simulation(tmp_path):
     """
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    procs.start_arm('lockstep')
+    procs.start_arm('lockstep', simulator=simulator)
     probe = Probe(domain)
     pub = probe.node.create_publisher(MarkerArray, '/orca_controller/obstacles', 10)
 

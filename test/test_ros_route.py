@@ -57,6 +57,9 @@ KEY_OF_MODULE = {
     # the web view only (issue 23): optional, not on the README's pip line; without it web_view
     # says so in one line naming its pip line (test_optional_dependencies.py)
     'viser': 'optional pip',
+    # the MuJoCo world and mujoco_bridge only (issue 38): optional as viser; without it
+    # mujoco_bridge says so in one line (test_mujoco_sim.py)
+    'mujoco': 'optional pip',
 }
 
 

@@ -120,10 +120,11 @@ class Procs:
         self.procs.append((p, log, name))
         return p
 
-    def start_arm_bridge(self, mode: str = 'lockstep', *ros_args: str, prefix=(), env=None):
+    def start_arm_bridge(self, mode: str = 'lockstep', *ros_args: str, prefix=(), env=None,
+                         simulator: str = 'pybullet'):
         """Start the shipped 7-DoF arm's simulator (``lwr.urdf``) at :data:`ARM_Q0`."""
         return self.start(
-            'orca_ros.ros.pybullet_bridge',
+            f'orca_ros.ros.{simulator}_bridge',
             '-p',
             f'mode:={mode}',
             '-p',
@@ -154,9 +155,10 @@ class Procs:
             env=env,
         )
 
-    def start_arm(self, mode: str = 'lockstep', controller_args=(), bridge_args=()):
-        """Start the arm's simulator and its controller (the pair most tests drive)."""
-        self.start_arm_bridge(mode, *bridge_args)
+    def start_arm(self, mode: str = 'lockstep', controller_args=(), bridge_args=(),
+                  simulator: str = 'pybullet'):
+        """Start the arm's simulator (``simulator``'s bridge) and its controller."""
+        self.start_arm_bridge(mode, *bridge_args, simulator=simulator)
         self.start_arm_controller(mode, *controller_args)
 
     def log(self, name: str) -> str:

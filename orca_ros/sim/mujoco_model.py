@@ -317,11 +317,48 @@ class MujocoModel:
     def get_gravity(self) -> np.ndarray:
         return self.server.gravity.copy()
 
+    def get_base_inertia(self) -> tuple[float, np.ndarray]:
+        """
+        Return the whole robot's mass and its rotational inertia at the base (floating base).
+
+        The inertia is the 3x3 block of the joint-space inertia matrix at the free joint's
+        angular velocity (base axes, about the base link's origin): what a torque on the base
+        turns with the joints locked.
+        """
+        if self._root is None:
+            raise RuntimeError(f"model '{self.name}' has a fixed base")
+        m, d = self.server.model, self.server.data
+        full = np.zeros((m.nv, m.nv))
+        mujoco.mj_fullM(m, d, full)
+        a = int(self._root.dofadr[0])
+        mass = float(m.body_subtreemass[self._base])
+        return mass, full[a + 3:a + 6, a + 3:a + 6].copy()
+
+    def set_base_wrench(self, force, torque) -> None:
+        """
+        Apply ``force`` [N] and ``torque`` [Nm] (world axes) at the base link's origin, held.
+
+        They stay until set again (zeros to stop): a crane holding the base
+        (:mod:`.mujoco_base_hold`).
+        """
+        d = self.server.data
+        f = np.asarray(force, dtype=float).reshape(3)
+        arm = d.xpos[self._base] - d.xipos[self._base]  # from the centre of mass to the origin
+        d.xfrc_applied[self._base, :3] = f
+        torque = np.asarray(torque, dtype=float).reshape(3)
+        d.xfrc_applied[self._base, 3:] = torque + np.cross(arm, f)
+
     # -------------------------------------------------------------- contacts
     def _geoms(self, bodies) -> list[int]:
         m = self.server.model
         return [g for g in range(m.ngeom) if int(m.geom_bodyid[g]) in bodies
                 and (m.geom_contype[g] or m.geom_conaffinity[g])]
+
+    def collision_geoms(self) -> list[tuple[str, int]]:
+        """Return the (link name, MuJoCo geom id) of every collision shape of this robot."""
+        m = self.server.model
+        return [(self._names_of[int(m.geom_bodyid[g])], g)
+                for g in self._geoms(set(self._body.values()))]
 
     def set_friction(self, lateral: float, spinning=None, rolling=None, links=None) -> None:
         """

@@ -42,8 +42,10 @@ import mujoco
 
 from ..robot.urdf_text import resolve_package_uris
 
-#: contype / conaffinity are int32 bit masks
+#: contype / conaffinity are int32 bit masks: bit 0 the ground's, bits 1-29 the robots' (one
+#: each), bit 30 the obstacles'
 ALL_BITS = 0x7FFFFFFF
+OBSTACLE_BIT = 1 << 30
 _MOVING = (int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE))
 
 
@@ -67,7 +69,7 @@ def robot_spec(urdf_path: str, position, orientation_xyzw, fixed_base: bool, col
     """
     Parse ``urdf_path`` into a specification placed at ``position`` / ``orientation_xyzw``.
 
-    ``collision_bit``: this robot's contact bit (1 << k, k >= 1; bit 0 is the ground's). Raises
+    ``collision_bit``: this robot's contact bit (1 << k, 1 <= k <= 29; see ``ALL_BITS``). Raises
     ``ValueError`` naming the file when MuJoCo cannot read it.
     """
     with open(urdf_path) as fh:

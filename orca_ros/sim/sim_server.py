@@ -28,7 +28,9 @@ import pybullet
 import pybullet_data
 from pybullet_utils import bullet_client
 
+from .base_hold import BaseHold
 from .contacts import friction_values
+from .pybullet_obstacles import PyBulletObstacles
 from .sim_model import SimModel
 
 
@@ -55,6 +57,8 @@ class SimServer:
         self.iteration = 0
         self.sim_time = 0.0
         self._callbacks: list[Callable[[int, float, float], None]] = []
+        #: named static obstacles (spheres, boxes, cylinders): add, move, remove, depth_into
+        self.obstacles = PyBulletObstacles(self.client)
 
     def set_gravity(self, gravity) -> None:
         g = np.asarray(gravity, dtype=float).reshape(3)
@@ -86,6 +90,10 @@ class SimServer:
         model = SimModel(self, urdf_path, position, orientation, name, fixed_base)
         self.models.append(model)
         return model
+
+    def hold_base(self, model) -> BaseHold:
+        """Hold ``model``'s floating base where it is now (:class:`.BaseHold`)."""
+        return BaseHold(self, model)
 
     def execute_after_world_update(self, cb: Callable[[int, float, float], None]) -> None:
         self._callbacks.append(cb)

@@ -30,6 +30,7 @@ PIP = {
     'rosbags': 'rosbags==0.11.9',
     'numba': 'numba==0.68.1',
     'viser': 'viser==1.1.1',
+    'mujoco': 'mujoco==4.0.0',
 }
 
 
