@@ -133,10 +133,10 @@ def _tilt(quat_xyzw) -> float:
     return float(np.arccos(np.clip(1.0 - 2.0 * (x * x + y * y), -1.0, 1.0)))
 
 
-def start_bridge(procs, quad, joints, *args):
+def start_bridge(procs, quad, joints, *args, simulator='pybullet'):
     """Start the bridge as the docs do: free running, the trunk GAP above standing."""
     return procs.start(
-        'orca_ros.ros.pybullet_bridge',
+        f'orca_ros.ros.{simulator}_bridge',
         '-p', f'urdf_path:={quad.urdf}',
         '-p', 'floating_base:=true',
         '-p', f'joints:={list(joints)}',
@@ -206,7 +206,8 @@ def released(procs):
     return float(m.group(1)), np.array([float(v) for v in m.group(2).split(',')])
 
 
-def start_as_documented(tmp_path, quad, params, hold='true', controller=True):
+def start_as_documented(tmp_path, quad, params, hold='true', controller=True,
+                        simulator='pybullet'):
     """
     Start the bridge, WAIT s (simulated) later the controller; observe SETTLE s past its start.
 
@@ -219,7 +220,8 @@ def start_as_documented(tmp_path, quad, params, hold='true', controller=True):
     robot.load_model_from_file(quad.urdf, floating_base=True)
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    start_bridge(procs, quad, robot.get_joint_names(), '-p', f'hold_base_until_command:={hold}')
+    start_bridge(procs, quad, robot.get_joint_names(), '-p', f'hold_base_until_command:={hold}',
+                 simulator=simulator)
     obs = Observer(domain, joint_states=not controller)
     try:
         obs.wait_for(lambda: obs.now >= WAIT and obs.poses()
@@ -273,16 +275,20 @@ def level_tolerance(quad) -> float:
     return GAP / float(np.ptp(feet[:, :2], axis=0).min())
 
 
-@pytest.mark.parametrize('which', sorted(ROBOTS))
-def test_a_quadruped_stands_when_started_as_documented(example_robot_urdf, tmp_path, which):
+@pytest.mark.parametrize('which, simulator', [(w, 'pybullet') for w in sorted(ROBOTS)]
+                         + [('quadruped', 'mujoco')])
+def test_a_quadruped_stands_when_started_as_documented(example_robot_urdf, tmp_path, which,
+                                                       simulator):
     """
     Held until the controller's first command, then standing at its target, level, in place.
 
     The trunk is placed GAP above its target: standing at it, not where placed, is within GAP / 2.
-    5 cm and 5 degrees tell a robot that stood up in place from the lurch of issue 37.
+    5 cm and 5 degrees tell a robot that stood up in place from the lurch of issue 37. On MuJoCo
+    too (the shipped quadruped here; Go1 and Solo12 were run when the crane was fixed): its crane
+    is a bounded wrench, its contacts MuJoCo's.
     """
     quad, params = ROBOTS[which](example_robot_urdf, tmp_path)
-    obs, log, (t1, held) = start_as_documented(tmp_path, quad, params)
+    obs, log, (t1, held) = start_as_documented(tmp_path, quad, params, simulator=simulator)
     placed = quad.home + [0.0, 0.0, GAP]
     run = obs.poses(t1)
     pos = np.array([p for _, p, _ in run])

@@ -17,7 +17,8 @@ A floating base held where it was placed until its controller takes over, in the
 :class:`~orca_ros.sim.BaseHold`'s contract (why: see there). How: MuJoCo's welds have no force
 bound, so the crane is a stiff wrench on the base link: the robot's weight carried, plus a
 critically damped spring to the pose the hold started at (``HOLD_HZ``, on the robot's mass and its
-rotational inertia at the base), bounded by ``HOLD_FACTOR`` weights (a torque of as many weights
+rotational inertia at the base: each axis its own, so that no axis is damped past what an explicit
+step allows), bounded by ``HOLD_FACTOR`` weights (a torque of as many weights
 times ``LEVER``). Release (:meth:`MujocoBaseHold.release`) lowers both bounds linearly over
 ``ramp`` seconds of simulated time, from the weight (and its torque) to 0, then lets go:
 at s of the ramp the crane carries at most m g (1 - s). :meth:`MujocoBaseHold.update` runs after
@@ -52,7 +53,7 @@ class MujocoBaseHold:
         self._g = np.asarray(server.gravity, dtype=float)
         self.weight = float(mass * np.linalg.norm(self._g))
         self._mass = mass
-        self._inertia = float(np.linalg.eigvalsh(inertia).max())
+        self._inertia = inertia  # base axes
         self._pose = model.get_world_to_base_transform()
         self.holding = True
         self._t0 = None  # simulated time the release started
@@ -87,6 +88,7 @@ class MujocoBaseHold:
         force = self._mass * (-self._g + w * w * (self._pose[:3, 3] - T[:3, 3])
                               - 2.0 * w * twist[:3])
         turn = orientation_error(self._pose[:3, :3], T[:3, :3])
-        torque = self._inertia * (w * w * turn - 2.0 * w * twist[3:])
+        R = T[:3, :3]
+        torque = R @ self._inertia @ R.T @ (w * w * turn - 2.0 * w * twist[3:])
         bound = self._scale * self.weight
         self._model.set_base_wrench(_bounded(force, bound), _bounded(torque, bound * LEVER))
