@@ -271,3 +271,24 @@ def test_without_mujoco_one_line(tmp_path):
          'orca_ros.ros.sim_bridge, orca_ros.ros.sim_obstacles'],
         env=env, capture_output=True, text=True, timeout=60)
     assert res.returncode == 0, res.stderr
+
+
+def test_a_blown_up_state_is_counted_and_the_world_goes_on():
+    """
+    A torque no joint takes in one step: MuJoCo resets the state; the world counts it, steps on.
+
+    (MuJoCo only warns; the bridge says so from the count.) The arm is back at its rest pose
+    (q = 0, at rest) and takes commands again.
+    """
+    world = MujocoServer()
+    arm = world.insert_model_from_urdf_file(orca.default_urdf_path())
+    arm.set_model_configuration(arm.get_joint_names(), Q0)
+    arm.set_joint_torque_command(np.array([0.0] * 6 + [1e12]))
+    world.step()
+    assert world.resets == 1 and world.last_reset == pytest.approx(DT)
+    assert np.all(arm.get_joint_positions() == 0.0) and np.all(arm.get_joint_velocities() == 0.0)
+    arm.set_joint_torque_command(np.array([1.0] + [0.0] * 6))
+    world.step(10)
+    assert world.resets == 1 and np.all(np.isfinite(arm.get_joint_positions()))
+    assert arm.get_joint_positions()[0] > 0.0  # the first joint turns under its torque
+    world.shutdown()

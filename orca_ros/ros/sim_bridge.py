@@ -194,6 +194,7 @@ class SimBridge(GuardedNode, SimObstacles):
         self._last_cmd_time = None
         self._state_ns = 0  # the stamp of the state last published [ns]
         self.stale_answers = 0  # lockstep: commands dropped, answers to an instant already stepped
+        self._resets = 0  # the simulator's resets of a blown-up state, told
 
         self.pub_js = self.create_publisher(JointState, 'joint_states', STATE_QOS)
         self.pub_odom = (
@@ -292,6 +293,12 @@ class SimBridge(GuardedNode, SimObstacles):
                 if self.hw_gravity:
                     self._update_gravity()
                 self.server.step()
+            if self.server.resets != self._resets:
+                self._resets = self.server.resets
+                self.say('error', 'simulation:reset',
+                         f'the simulation blew up at t = {self.server.last_reset:.3f} s '
+                         '(accelerations not finite: a torque far beyond what a joint takes in '
+                         f"one step): {self.SIMULATOR} reset the robot to its model's rest pose")
         elif self.mode == 'lockstep':
             # paused: the idle announcements keep the controller informed (answering each command
             # with the same state would make the controller, which repeats its command for a

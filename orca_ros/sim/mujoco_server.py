@@ -32,6 +32,10 @@ Each inserted robot recompiles the world (``MjSpec.recompile`` keeps the state o
 already in it). After ``mj_step`` MuJoCo's positions of bodies are those of the state before the
 step: the kinematics are computed again, so that what a model reads after a step is of its new
 state; contacts stay those the step was computed with.
+
+When the accelerations are not finite (a torque far beyond what a joint's inertia takes in one
+step), MuJoCo resets the state to the model's rest pose, warns and goes on: counted here in
+``resets`` (``last_reset``: when) for a caller to say so; MuJoCo's warnings go to the log.
 """
 
 from __future__ import annotations
@@ -48,12 +52,15 @@ from .mujoco_contacts import set_geom_friction
 from .mujoco_model import MujocoModel
 from .mujoco_obstacles import MujocoObstacles
 from .mujoco_robot_spec import ALL_BITS, OBSTACLE_BIT
+from ..utils.logger import get_logger
 
 INTEGRATORS = {'euler': mujoco.mjtIntegrator.mjINT_EULER,
                'implicitfast': mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
                'implicit': mujoco.mjtIntegrator.mjINT_IMPLICIT,
                'rk4': mujoco.mjtIntegrator.mjINT_RK4}
 GROUND = 'ground_plane'
+_LOG = get_logger('mujoco')
+_UNSTABLE = int(mujoco.mjtWarning.mjWARN_BADQACC)
 #: contacts: time constant [s] (at least 2 steps) and impedance of MuJoCo's soft contacts. Its
 #: defaults (20 ms; 0.9-0.95 over 1 mm) let Solo12's feet sink 1.2 mm under its weight, these 0.03
 CONTACT_TIME = 0.005
@@ -96,6 +103,10 @@ class MujocoServer:
         self.sim_time = 0.0
         self._callbacks: list[Callable[[int, float, float], None]] = []
         self._viewer = None
+        #: times MuJoCo found the accelerations not finite and reset the state, and the last's time
+        self.resets, self.last_reset = 0, None
+        if mujoco.get_mju_user_warning() is None:  # its warnings to our log, not to a file in
+            mujoco.set_mju_user_warning(lambda text: _LOG.warning('MuJoCo: %s', text))  # the cwd
         #: named static obstacles (spheres, boxes, cylinders): add, move, remove, depth_into
         self.obstacles = MujocoObstacles(self)
 
@@ -160,6 +171,10 @@ class MujocoServer:
             for model in self.models:
                 model.apply_commands()
             mujoco.mj_step(m, d)
+            if d.warning[_UNSTABLE].number:  # MuJoCo reset the state (to the model's rest pose)
+                d.warning[_UNSTABLE].number = 0
+                self.resets += 1
+                self.last_reset = self.sim_time + dt
             mujoco.mj_kinematics(m, d)  # the bodies where the new state puts them
             mujoco.mj_comPos(m, d)
             mujoco.mj_comVel(m, d)

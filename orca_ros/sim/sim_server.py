@@ -57,6 +57,8 @@ class SimServer:
         self.iteration = 0
         self.sim_time = 0.0
         self._callbacks: list[Callable[[int, float, float], None]] = []
+        #: resets of a blown-up state (MuJoCo's world counts them; PyBullet's never resets)
+        self.resets, self.last_reset = 0, None
         #: named static obstacles (spheres, boxes, cylinders): add, move, remove, depth_into
         self.obstacles = PyBulletObstacles(self.client)
 
