@@ -40,7 +40,6 @@ step), MuJoCo resets the state to the model's rest pose, warns and goes on: coun
 
 from __future__ import annotations
 
-import time
 from typing import Callable
 
 import mujoco
@@ -52,6 +51,7 @@ from .mujoco_contacts import set_geom_friction
 from .mujoco_model import MujocoModel
 from .mujoco_obstacles import MujocoObstacles
 from .mujoco_robot_spec import ALL_BITS, OBSTACLE_BIT
+from .stepping import run_world
 from ..utils.logger import get_logger
 
 INTEGRATORS = {'euler': mujoco.mjtIntegrator.mjINT_EULER,
@@ -189,19 +189,8 @@ class MujocoServer:
 
     def run(self, duration: float | None = None, real_time: bool = False,
             should_stop: Callable[[], bool] | None = None) -> None:
-        """
-        Step until ``duration`` simulated seconds passed or ``should_stop()``.
-
-        Forever if ``duration`` is None.
-        """
-        end = None if duration is None else self.sim_time + duration
-        t_wall0, t_sim0 = time.perf_counter(), self.sim_time
-        while (end is None or self.sim_time < end - 1e-12) and not (should_stop and should_stop()):
-            self.step()
-            if real_time:
-                ahead = (self.sim_time - t_sim0) - (time.perf_counter() - t_wall0)
-                if ahead > 0:
-                    time.sleep(ahead)
+        """Step for ``duration`` simulated seconds or until ``should_stop()`` (see run_world)."""
+        run_world(self, duration, real_time, should_stop)
 
     def shutdown(self) -> None:
         if self._viewer is not None:

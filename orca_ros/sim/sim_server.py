@@ -20,7 +20,6 @@ DIRECT (headless) by default, GUI on request; fixed time step; gravity; optional
 
 from __future__ import annotations
 
-import time
 from typing import Callable
 
 import numpy as np
@@ -32,6 +31,7 @@ from .base_hold import BaseHold
 from .contacts import friction_values
 from .pybullet_obstacles import PyBulletObstacles
 from .sim_model import SimModel
+from .stepping import run_world
 
 
 class SimServer:
@@ -119,19 +119,8 @@ class SimServer:
         real_time: bool = False,
         should_stop: Callable[[], bool] | None = None,
     ) -> None:
-        """
-        Step until ``duration`` simulated seconds passed or ``should_stop()``.
-
-        Forever if ``duration`` is None.
-        """
-        end = None if duration is None else self.sim_time + duration
-        t_wall0, t_sim0 = time.perf_counter(), self.sim_time
-        while (end is None or self.sim_time < end - 1e-12) and not (should_stop and should_stop()):
-            self.step()
-            if real_time:
-                ahead = (self.sim_time - t_sim0) - (time.perf_counter() - t_wall0)
-                if ahead > 0:
-                    time.sleep(ahead)
+        """Step for ``duration`` simulated seconds or until ``should_stop()`` (see run_world)."""
+        run_world(self, duration, real_time, should_stop)
 
     def shutdown(self) -> None:
         try:
