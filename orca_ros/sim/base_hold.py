@@ -40,6 +40,26 @@ import pybullet
 HOLD_FACTOR = 10.0
 
 
+class ReleaseRamp:
+    """A crane's release: the share of its bound left at simulated time t (1 until it starts)."""
+
+    def __init__(self):
+        self.start, self.ramp = None, 0.0
+
+    def begin(self, t: float, ramp: float) -> None:
+        """Start giving way at ``t``, over ``ramp`` seconds (0: at once)."""
+        if not ramp >= 0.0:
+            raise ValueError(f'release ramp must be >= 0 s, got {ramp}')
+        self.start, self.ramp = float(t), float(ramp)
+
+    def left(self, t: float) -> float:
+        """Return 1 - s at ``t``, s the ramp's progress (0: the crane has let go)."""
+        if self.start is None:
+            return 1.0
+        s = 1.0 if self.ramp <= 0.0 else (t - self.start) / self.ramp
+        return min(max(1.0 - s, 0.0), 1.0)
+
+
 class BaseHold:
     def __init__(self, server, model):
         """Hold ``model``'s base (floating) at its pose now; released by :meth:`release`."""
@@ -56,26 +76,23 @@ class BaseHold:
         )
         c.changeConstraint(self._id, maxForce=HOLD_FACTOR * self.weight)
         self.holding = True
-        self._t0 = None  # simulated time the release started
-        self._ramp = 0.0
+        self._release = ReleaseRamp()
         server.execute_after_world_update(self.update)
 
     def release(self, t: float, ramp: float) -> None:
         """Start giving way at simulated time ``t``, over ``ramp`` seconds (0: at once)."""
-        if not self.holding or self._t0 is not None:
+        if not self.holding or self._release.start is not None:
             return
-        if not ramp >= 0.0:
-            raise ValueError(f'release ramp must be >= 0 s, got {ramp}')
-        self._t0, self._ramp = float(t), float(ramp)
+        self._release.begin(t, ramp)
         self.update(0, t, 0.0)
 
     def update(self, iteration: int, t: float, dt: float) -> None:
         """After a step: the force bound of the ramp at ``t``; removed once it reaches 0."""
-        if not self.holding or self._t0 is None:
+        if not self.holding or self._release.start is None:
             return
-        s = 1.0 if self._ramp <= 0.0 else (t - self._t0) / self._ramp
-        if s >= 1.0:
+        left = self._release.left(t)
+        if left <= 0.0:
             self._client.removeConstraint(self._id)
             self.holding = False
             return
-        self._client.changeConstraint(self._id, maxForce=self.weight * (1.0 - max(s, 0.0)))
+        self._client.changeConstraint(self._id, maxForce=self.weight * left)

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base_hold import HOLD_FACTOR
+from .base_hold import HOLD_FACTOR, ReleaseRamp
 from ..math.rotations import orientation_error
 
 #: the crane's spring [Hz]: stiff against what the joints' hold does, stable at 1 ms steps
@@ -56,32 +56,28 @@ class MujocoBaseHold:
         self._inertia = inertia  # base axes
         self._pose = model.get_world_to_base_transform()
         self.holding = True
-        self._t0 = None  # simulated time the release started
-        self._ramp = 0.0
+        self._release = ReleaseRamp()
         self._scale = HOLD_FACTOR
         self.update(0, server.get_time(), 0.0)
         server.execute_after_world_update(self.update)
 
     def release(self, t: float, ramp: float) -> None:
         """Start giving way at simulated time ``t``, over ``ramp`` seconds (0: at once)."""
-        if not self.holding or self._t0 is not None:
+        if not self.holding or self._release.start is not None:
             return
-        if not ramp >= 0.0:
-            raise ValueError(f'release ramp must be >= 0 s, got {ramp}')
-        self._t0, self._ramp = float(t), float(ramp)
+        self._release.begin(t, ramp)
         self.update(0, t, 0.0)
 
     def update(self, iteration: int, t: float, dt: float) -> None:
         """After a step: the crane's wrench for the next, bounded as the ramp is at ``t``."""
         if not self.holding:
             return
-        if self._t0 is not None:
-            s = 1.0 if self._ramp <= 0.0 else (t - self._t0) / self._ramp
-            if s >= 1.0:
+        if self._release.start is not None:
+            self._scale = self._release.left(t)
+            if self._scale <= 0.0:
                 self._model.set_base_wrench(np.zeros(3), np.zeros(3))
                 self.holding = False
                 return
-            self._scale = 1.0 - max(s, 0.0)
         w = 2.0 * np.pi * HOLD_HZ
         T = self._model.get_world_to_base_transform()
         twist = self._model.get_base_velocity()
