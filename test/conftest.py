@@ -14,6 +14,7 @@
 import fnmatch
 import importlib
 import os
+import pathlib
 import time
 from types import SimpleNamespace
 
@@ -74,6 +75,28 @@ def pytest_make_collect_report(collector):
         where = (str(collector.path), 1, f'Skipped: {collector.reason}')
         return pytest.CollectReport(collector.nodeid, 'skipped', where, [])
     return None
+
+
+#: lines of each node's log a failed test's report shows (the last ones)
+LOG_TAIL = 40
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_makereport(item, call):
+    """
+    Add the end of each node's log (``*.log`` under ``tmp_path``) to a failed test's report.
+
+    A run on CI keeps no files: what the bridge and the controller said last is the only record
+    of why a system test stalled.
+    """
+    outcome = yield
+    rep = outcome.get_result()
+    tmp = getattr(item, 'funcargs', {}).get('tmp_path')
+    if not rep.failed or tmp is None:
+        return
+    for log in sorted(pathlib.Path(tmp).rglob('*.log')):
+        lines = log.read_text(errors='replace').splitlines()[-LOG_TAIL:]
+        rep.sections.append((f'last {len(lines)} lines of {log.name}', '\n'.join(lines)))
 
 
 def _ci() -> bool:

@@ -125,3 +125,82 @@ def test_main_job_reaches_every_target_and_records_the_run(tmp_path):
     assert 'solve time per cycle: median' in report
     assert 'limits: no position, velocity or torque limit reached' in report
     assert png.stat().st_size > 50_000
+
+
+def _children(pid: int) -> set[int]:
+    """Return the live child processes of ``pid`` (Linux)."""
+    kids = set()
+    for task in os.listdir(f'/proc/{pid}/task'):
+        with open(f'/proc/{pid}/task/{task}/children') as fh:
+            kids |= {int(k) for k in fh.read().split()}
+    return kids
+
+
+def test_main_job_on_mujoco_reaches_every_target_then_stays_until_ctrl_c(tmp_path):
+    """
+    ``--sim mujoco --stay``: the same job on the other simulator, then the arm left running.
+
+    Every target within the job's 1 mm on MuJoCo (acceptance 1 of the MuJoCo issue); after the
+    report the bridge and the controller run on (the recorder stopped: its bag was read for the
+    report) until SIGINT, which ends them all and the job with 0.
+    """
+    import signal
+    import time
+
+    bag = tmp_path / 'run'
+    output = tmp_path / 'job.out'
+    proc = subprocess.Popen(
+        [sys.executable, '-m', 'orca_ros.ros.main_job', '--output-dir', str(tmp_path),
+         '--bag', str(bag), '--sim', 'mujoco', '--stay'],
+        stdout=output.open('w'), stderr=subprocess.STDOUT,
+        env=dict(os.environ, MPLBACKEND='Agg', PYTHONUNBUFFERED='1'),
+    )
+    staying = 'Ctrl-C ends them'
+    try:
+        deadline = time.time() + 900  # a failsafe (a busy machine may take minutes), no claim
+        while (time.time() < deadline and proc.poll() is None
+               and staying not in output.read_text()):
+            time.sleep(0.1)
+        text = output.read_text()
+        assert staying in text and proc.poll() is None, text[-3000:]
+        assert '(mujoco_bridge + orca_controller, lockstep)' in text
+        assert 'RESULT: every target reached' in text and 'NOT REACHED' not in text
+        assert text.count(' mm ') >= 5
+        logs = tmp_path / 'run.logs'
+        assert 'mujoco bridge: 7 joints, mode lockstep' in (logs / 'bridge.log').read_text()
+        # staying: the bridge and the controller alive and stepping, the recorder stopped
+        names = {}
+        for kid in _children(proc.pid):
+            with open(f'/proc/{kid}/cmdline') as fh:
+                names[kid] = fh.read()
+        assert sum('mujoco_bridge' in c for c in names.values()) == 1, names
+        assert sum('controller_node' in c for c in names.values()) == 1, names
+        assert not any('bag_recorder' in c for c in names.values()), names
+        cpu0 = {k: _cpu_ticks(k) for k in names}
+        deadline = time.time() + 60
+        while time.time() < deadline and all(_cpu_ticks(k) == cpu0[k] for k in names):
+            time.sleep(0.1)
+        assert all(_cpu_ticks(k) > cpu0[k] for k in names), 'the nodes stopped working'
+        proc.send_signal(signal.SIGINT)
+        proc.wait(timeout=60)
+        assert proc.returncode == 0, output.read_text()[-3000:]
+        assert 'stopping the nodes' in output.read_text()
+        assert not any(os.path.exists(f'/proc/{k}') and _state(k) != 'Z' for k in names), names
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+
+
+def _cpu_ticks(pid: int) -> int:
+    with open(f'/proc/{pid}/stat') as fh:
+        fields = fh.read().rsplit(')', 1)[1].split()
+    return int(fields[11]) + int(fields[12])  # utime + stime
+
+
+def _state(pid: int) -> str:
+    try:
+        with open(f'/proc/{pid}/stat') as fh:
+            return fh.read().rsplit(')', 1)[1].split()[0]
+    except FileNotFoundError:
+        return 'gone'

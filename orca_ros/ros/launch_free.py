@@ -191,11 +191,13 @@ class Procs:
         for topic in topics:
             self.wait_log(recorder, f'first message on {topic}', timeout=timeout)
 
-    def stop(self):
-        for p, log, _ in self.procs:
+    def stop(self, *names: str):
+        """Stop the processes ``names`` (all if none): SIGTERM, SIGKILL after 10 s."""
+        chosen = [e for e in self.procs if not names or e[2] in names]
+        for p, log, _ in chosen:
             if p.poll() is None:
                 p.terminate()
-        for p, log, _ in self.procs:
+        for p, log, _ in chosen:
             try:
                 p.wait(timeout=10)
             except subprocess.TimeoutExpired:

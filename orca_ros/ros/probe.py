@@ -318,11 +318,16 @@ class Probe:
         self.wait_for(fut.done, timeout, f'answer of {name}')
         return fut.result()
 
-    def unpause(self, timeout: float = 60.0) -> None:
-        """Let a bridge started with ``start_paused:=true`` go (its ``~/unpause`` service)."""
+    def unpause(self, timeout: float = 60.0, simulator: str = 'pybullet') -> None:
+        """
+        Let a bridge started with ``start_paused:=true`` go (its ``~/unpause`` service).
+
+        ``simulator``: the bridge's (``pybullet``: ``/pybullet_bridge``, ``mujoco``: ...).
+        """
         from std_srvs.srv import Trigger  # noqa: PLC0415
 
-        res = self.call(Trigger, '/pybullet_bridge/unpause', Trigger.Request(), timeout=timeout)
+        res = self.call(Trigger, f'/{simulator}_bridge/unpause', Trigger.Request(),
+                        timeout=timeout)
         if not res.success:
             raise AssertionError(f'the bridge refused to unpause: {res.message}')
 
