@@ -37,6 +37,7 @@ setup(
         ('share/ament_index/resource_index/packages', [f'resource/{PACKAGE}']),
         (f'share/{PACKAGE}', ['package.xml']),
         (f'share/{PACKAGE}/urdf', data('urdf/*')),
+        (f'share/{PACKAGE}/mjcf', data('mjcf/*')),
         (f'share/{PACKAGE}/config', data('config/*')),
     ],
     install_requires=['setuptools'],

@@ -23,7 +23,7 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 
 def share_path(*parts: str) -> str:
     """
-    Path of a file shipped under ``urdf/`` or ``config/``.
+    Path of a file shipped under ``urdf/``, ``mjcf/`` or ``config/``.
 
     Looked up in the source checkout first, then in ``<prefix>/share/orca_ros`` (colcon / pip data
     files).

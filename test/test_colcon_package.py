@@ -79,6 +79,7 @@ def test_colcon_install_layout(workspace):
     ).is_file()
     assert (prefix / 'share' / 'orca_ros' / 'package.xml').is_file()
     assert (prefix / 'share' / 'orca_ros' / 'urdf' / 'lwr.urdf').is_file()
+    assert (prefix / 'share' / 'orca_ros' / 'mjcf' / 'lwr.xml').is_file()
     assert (prefix / 'share' / 'orca_ros' / 'config' / 'lwr_controller.yaml').is_file()
 
 

@@ -137,9 +137,7 @@ def test_node_without_daqp_controls_with_proxqp_and_says_so_once(tmp_path, ros):
     probe = Probe(domain)
     try:
         probe.wait_for(lambda: probe.sim_time() > 0.5, 60, 'the controller driving the bridge')
-        target = probe.ee_pose()
-        target[:3, 3] += [0.05, -0.05, 0.03]
-        probe.send_target('ee', target, until=probe.moved_towards(target))
+        target = probe.send_ee_offset([0.05, -0.05, 0.03])
         probe.wait_sim(3.0)
         err = np.linalg.norm(probe.ee_pose()[:3, 3] - target[:3, 3])
         assert err < 1e-3, f'{err * 1e3:.2f} mm from the target with the fallback solver'

@@ -97,14 +97,18 @@ class ControllerSetup:
 
 
 def resolve_urdf_path(path: str) -> str:
+    """Return the robot model file ``path`` (URDF or MJCF): as given, or shipped (urdf/, mjcf/)."""
     if os.path.isabs(path) or os.path.exists(path):
         return path
-    try:
-        return share_path('urdf', path)
-    except FileNotFoundError:
-        raise ConfigError(
-            f"URDF '{path}' not found (as given, nor in the package's urdf/ directory)"
-        ) from None
+    for folder in ('urdf', 'mjcf'):
+        try:
+            return share_path(folder, path)
+        except FileNotFoundError:
+            pass
+    raise ConfigError(
+        f"robot model '{path}' not found (as given, nor in the package's urdf/ or mjcf/ "
+        'directory)'
+    )
 
 
 def _vec(value, n, what):

@@ -39,6 +39,7 @@ from . import state_input
 from .dynamics_api import DynamicsApiMixin
 from .frame_api import FrameApiMixin
 from .joint_locking import JointLockingMixin
+from .mjcf import build_mjcf_model, is_mjcf
 from ..utils.logger import get_logger
 
 _LOG = get_logger('robot')
@@ -64,18 +65,39 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         self._frame_cache: dict[int, tuple] = {}
         self.urdf_path: str | None = None
         self.urdf_xml: str | None = None  # the description loaded (collision geometry reads it)
+        self.mjcf_path: str | None = None  # the MJCF file loaded, if the robot came from one
         self._locked = None  # joint_locking.LockedJoints while joints are locked
 
     # ------------------------------------------------------------------ loading
-    def load_model_from_file(self, urdf_path: str, floating_base: bool = False) -> bool:
-        if not isinstance(urdf_path, (str, os.PathLike)) or not os.path.isfile(urdf_path):
-            raise FileNotFoundError(f"URDF file not found: '{urdf_path}'")
-        with open(urdf_path, 'r', encoding='utf-8') as fh:
+    def load_model_from_file(self, path: str, floating_base: bool = False) -> bool:
+        """
+        Load the robot from a URDF or an MJCF file (told apart by the root element).
+
+        MJCF (``<mujoco>``): Pinocchio's parser; bodies are frames, hinge and slide joints the
+        joints, ``range`` and ``actuatorfrcrange`` the position and torque limits (MJCF has no
+        velocity limits: infinite unless a configuration gives them). A ``freejoint`` on the root
+        body is the floating base (``floating_base`` must then be True); ``floating_base`` without
+        one adds it. Collision geometry (collision avoidance) needs a URDF for now. ValueError
+        naming what the parser refused.
+        """
+        if not isinstance(path, (str, os.PathLike)) or not os.path.isfile(path):
+            raise FileNotFoundError(f"robot model file not found: '{path}'")
+        with open(path, 'r', encoding='utf-8') as fh:
             xml = fh.read()
-        self.urdf_path = os.fspath(urdf_path)
+        if is_mjcf(xml):
+            self._locked = None
+            model = build_mjcf_model(os.fspath(path), floating_base)
+            self.urdf_path, self.urdf_xml, self.mjcf_path = None, None, os.fspath(path)
+            self._setup(model, floating_base)
+            return True
+        self.urdf_path = os.fspath(path)
         return self.load_model_from_string(xml, floating_base)
 
     def load_model_from_string(self, urdf_xml: str, floating_base: bool = False) -> bool:
+        """Load the robot from URDF text (MJCF: its file, :meth:`load_model_from_file`)."""
+        if isinstance(urdf_xml, str) and is_mjcf(urdf_xml):
+            raise ValueError('MJCF text: give its file (its meshes and includes are found from '
+                             'its directory)')
         if not isinstance(urdf_xml, str) or '<robot' not in urdf_xml:
             raise ValueError('not a URDF description: no <robot> element in the given string')
         try:
@@ -86,7 +108,7 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         except Exception as exc:  # pinocchio raises ValueError/RuntimeError with its own text
             raise ValueError(f'could not parse URDF: {exc}') from exc
         self._locked = None
-        self.urdf_xml = urdf_xml
+        self.urdf_xml, self.mjcf_path = urdf_xml, None
         self._setup(model, floating_base)
         return True
 

@@ -220,7 +220,8 @@ class OrcaControllerNode(
             f'orca_controller: {self.n} joints'
             f"{f' (locked: {self._locked})' if self._locked else ''}, "
             f'{self.update_rate:.0f} Hz ({self.trigger}), solver '
-            f'{self.controller.solver.value}, tasks {list(setup.tasks)}'
+            f'{self.controller.solver.value}, tasks {list(setup.tasks)}, model '
+            f"{self.robot.mjcf_path or self.robot.urdf_path or 'robot_description'}"
         )
 
     def _wait_for_robot_description(self, timeout: float) -> str:

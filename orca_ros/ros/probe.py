@@ -275,6 +275,17 @@ class Probe:
                 lambda: pub.publish(msg), until, f"the effect of {task}'s target", timeout
             )
 
+    def send_ee_offset(self, offset) -> np.ndarray:
+        """
+        Send task ``ee`` the end effector's pose moved by ``offset`` [m]; return that target.
+
+        Repeated until the end effector moves towards it (:meth:`moved_towards`).
+        """
+        target = self.ee_pose()
+        target[:3, 3] += offset
+        self.send_target('ee', target, until=self.moved_towards(target))
+        return target
+
     def _target_publisher(self, key: str, task: str, msg_type, topic: str):
         """Return publisher ``key`` on <ns>/tasks/<task>/<topic>, made once, once matched."""
         if key not in self.pub_target:

@@ -113,6 +113,7 @@ class SimBridge(GuardedNode, SimObstacles):
             param(self, 'stop_time', 0.0)
         )  # > 0: simulated time at which stepping stops
         controller_name = str(param(self, 'controller_name', 'effort_controller'))
+        description_given = bool(description)
         if description:
             import tempfile  # noqa: PLC0415
 
@@ -224,6 +225,7 @@ class SimBridge(GuardedNode, SimObstacles):
             f"{'command' if self.mode == 'lockstep' else 'tick'}, commands on "
             f'/{controller_name}/commands'
             f"{', hardware gravity compensation' if self.hw_gravity else ''}"
+            f", model {'robot_description' if description_given else urdf}"
         )
         if self.base_hold is not None:
             self.get_logger().info('holding the base at its start until the first command')

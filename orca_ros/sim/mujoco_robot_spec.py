@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-A URDF robot as a MuJoCo model specification (``mujoco.MjSpec``), ready to attach to a world.
+A URDF or MJCF robot as a MuJoCo model specification (``mujoco.MjSpec``), ready to attach.
 
 MuJoCo's URDF importer is made to give the robot the controller's model (Pinocchio's, from the
 same file):
@@ -28,6 +28,8 @@ same file):
 * visual geometry dropped; the robot's collision shapes do not touch each other (PyBullet's
   default, without self-collision) but touch the ground and other robots: ``contype`` and
   ``conaffinity`` bits per robot;
+* an MJCF file is MuJoCo's own: read as it is but for its actuators (removed, see
+  :func:`_mjcf_spec`) and its placement;
 * a floating base gets a free joint on the root link: ``qpos`` = (x, y, z, qw, qx, qy, qz) of
   the URDF base link frame, ``qvel`` = (linear velocity in world axes, angular in the base frame);
 * one position actuator per joint, inert (zero gains) until a joint is servoed.
@@ -40,6 +42,7 @@ import xml.etree.ElementTree as ET
 
 import mujoco
 
+from ..robot.mjcf import is_mjcf
 from ..robot.urdf_text import resolve_package_uris
 
 #: contype / conaffinity are int32 bit masks: bit 0 the ground's, bits 1-29 the robots' (one
@@ -73,22 +76,26 @@ def robot_spec(urdf_path: str, position, orientation_xyzw, fixed_base: bool, col
     ``ValueError`` naming the file when MuJoCo cannot read it.
     """
     with open(urdf_path) as fh:
-        text = resolve_package_uris(fh.read(), urdf_path, package_dirs)
-    try:
-        root = ET.fromstring(text)
-        spec = mujoco.MjSpec.from_string(text)
-    except (ET.ParseError, ValueError) as exc:
-        raise ValueError(f"MuJoCo cannot read '{urdf_path}': {exc}") from exc
-    spec.compiler.fusestatic = False
+        text = fh.read()
+    if is_mjcf(text):
+        spec, base = _mjcf_spec(urdf_path, fixed_base)
+    else:
+        text = resolve_package_uris(text, urdf_path, package_dirs)
+        try:
+            root = ET.fromstring(text)
+            spec = mujoco.MjSpec.from_string(text)
+        except (ET.ParseError, ValueError) as exc:
+            raise ValueError(f"MuJoCo cannot read '{urdf_path}': {exc}") from exc
+        spec.compiler.fusestatic = False
+        spec.compiler.boundinertia = 1e-9
+        spec.compiler.balanceinertia = True
+        _massless_as_in_the_urdf(spec, root, fixed_base)
+        base = spec.worldbody.bodies[0]
+        if not fixed_base:
+            base.add_freejoint(name='root')
     spec.compiler.discardvisual = True
-    spec.compiler.boundinertia = 1e-9
-    spec.compiler.balanceinertia = True
-    _massless_as_in_the_urdf(spec, root, fixed_base)
-    base = spec.worldbody.bodies[0]
     x, y, z, w = (float(c) for c in orientation_xyzw)
     base.pos, base.quat = [float(c) for c in position], [w, x, y, z]
-    if not fixed_base:
-        base.add_freejoint(name='root')
     for g in spec.geoms:
         if g.contype or g.conaffinity:
             g.contype, g.conaffinity = collision_bit, ALL_BITS & ~collision_bit
@@ -99,6 +106,33 @@ def robot_spec(urdf_path: str, position, orientation_xyzw, fixed_base: bool, col
         actuator.set_to_position(kp=0.0)
     links = [b.name for b in spec.bodies if b.name != 'world']
     return RobotSpec(spec, joints, links, base.name)
+
+
+def _mjcf_spec(path: str, fixed_base: bool):
+    """
+    Return (spec, root body) of the MJCF file ``path`` (its meshes found from its directory).
+
+    The file's actuators are removed (the bridge drives the joints, as the hardware's drives
+    would); its joints' damping, armature and friction stay (the simulated robot's physics, which
+    Pinocchio's model has not). A floating base: the root body's ``freejoint`` or one added; a
+    fixed base with one is refused, as the controller's model refuses it.
+    """
+    try:
+        spec = mujoco.MjSpec.from_file(path)
+    except ValueError as exc:
+        raise ValueError(f"MuJoCo cannot read '{path}': {exc}") from exc
+    for actuator in list(spec.actuators):
+        spec.delete(actuator)
+    base = spec.worldbody.bodies[0]
+    free = [j for j in base.joints if int(j.type) == int(mujoco.mjtJoint.mjJNT_FREE)]
+    if free and fixed_base:
+        raise ValueError(f"MJCF '{path}': its root body has a free joint ('{free[0].name}'): "
+                         'load it with a floating base')
+    if free:
+        free[0].name = 'root'
+    elif not fixed_base:
+        base.add_freejoint(name='root')
+    return spec, base
 
 
 def _massless_as_in_the_urdf(spec, root, fixed_base: bool) -> None:

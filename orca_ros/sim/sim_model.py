@@ -44,6 +44,7 @@ import pybullet
 
 from .contacts import ContactsMixin
 from .joint_map import JointMap
+from ..robot.mjcf import is_mjcf
 
 
 def _rot(quat_xyzw) -> np.ndarray:
@@ -56,6 +57,10 @@ class SimModel(ContactsMixin):
         c = self.client = server.client
         self.fixed_base = bool(fixed_base)
         flags = pybullet.URDF_USE_INERTIA_FROM_FILE
+        with open(urdf_path) as fh:
+            if is_mjcf(fh.read()):
+                raise ValueError(f"'{urdf_path}' is MJCF: this world reads URDF (an MJCF robot "
+                                 'runs on MuJoCo: mujoco_bridge)')
         self.body = c.loadURDF(
             urdf_path,
             basePosition=list(position),
