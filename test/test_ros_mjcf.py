@@ -15,8 +15,8 @@
 A robot given as MJCF through the nodes: ``urdf_path`` names an MJCF file for both.
 
 The shipped arm as MJCF (``mjcf/lwr.xml``) on ``mujoco_bridge`` with the shipped controller
-configuration: a target 10 cm away reached. An MJCF robot on the PyBullet bridge, or one the
-parser refuses, is one line naming the cause and exit 1.
+configuration: a target 12 cm away reached. An MJCF robot on the PyBullet bridge, one the
+parser refuses, or a joint the model lacks, is one line naming the cause and exit 1.
 """
 
 import numpy as np
@@ -45,11 +45,18 @@ def test_the_arm_as_mjcf_reaches_its_target_through_the_nodes(tmp_path):
         procs.stop()
 
 
-@pytest.mark.parametrize('case', ['mjcf_on_pybullet', 'unparsable'])
+@pytest.mark.parametrize('case', ['mjcf_on_pybullet', 'unparsable', 'joint_pybullet',
+                                  'joint_mujoco'])
 def test_a_model_the_node_cannot_take_is_one_line_and_exit_1(tmp_path, case):
+    """Also a joint in ``joints`` the model lacks, on either bridge."""
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    if case == 'mjcf_on_pybullet':
+    if case.startswith('joint_'):
+        p = procs.start_arm_bridge('lockstep', '-p', 'joints:=[joint_0, nope]',
+                                   '-p', 'initial_positions:=[0.0, 0.0]',
+                                   simulator=case.split('_')[1])
+        name, said = 'bridge', "cannot run: ValueError: model 'lwr' has no joint(s) ['nope']"
+    elif case == 'mjcf_on_pybullet':
         p = procs.start_arm_bridge('lockstep', '-p', 'urdf_path:=lwr.xml')
         name, said = 'bridge', 'is MJCF: this world reads URDF (an MJCF robot runs on MuJoCo'
     else:
