@@ -24,15 +24,17 @@ import orca_ros as orca
 from orca_ros.examples import quadruped as quad
 from orca_ros.ros.launch_free import free_domain_id, Procs
 from orca_ros.ros.probe import Probe
+import pytest
 
 
 DT = 0.001  # the bridge's control period: one simulated step per command in lockstep
 RELAY = '/probe/relayed_commands'
 
 
-def test_stand_and_shift_through_the_nodes(tmp_path):
+@pytest.mark.parametrize('simulator', ['pybullet', 'mujoco'])
+def test_stand_and_shift_through_the_nodes(tmp_path, simulator):
     """
-    Stand, then sway the base +-5 cm along a sinusoid streamed by simulated time.
+    Stand, then sway the base +-5 cm along a sinusoid streamed by simulated time (either world).
 
     The probe sits in the lockstep loop (the controller's commands reach the simulator through
     it): before forwarding the command of instant t it sends the target of t + DT, so every
@@ -45,7 +47,7 @@ def test_stand_and_shift_through_the_nodes(tmp_path):
     home = np.array([0.0, 0.0, quad.STAND_HEIGHT])
     q0 = '[' + ', '.join(f'{v:.3f}' for v in quad.STAND_Q) + ']'
     procs.start(
-        'orca_ros.ros.pybullet_bridge',
+        f'orca_ros.ros.{simulator}_bridge',
         '-p',
         'mode:=lockstep',
         '-p',
@@ -106,7 +108,8 @@ def test_stand_and_shift_through_the_nodes(tmp_path):
         pos = np.array([p for _, p in shift])
         rms = np.sqrt(np.mean(np.sum((pos - ref) ** 2, axis=1)))
         print(
-            f'nodes: base sinusoid rms {rms * 1e3:.3f} mm, standing max {standing * 1e3:.3f} mm, '
+            f'nodes ({simulator}): base sinusoid rms {rms * 1e3:.4f} mm, standing max '
+            f'{standing * 1e3:.4f} mm, '
             f'{len(sent) - 1} targets streamed'
         )
         assert np.ptp(pos[:, 1]) > 0.09  # the base did swing +-5 cm
@@ -117,6 +120,7 @@ def test_stand_and_shift_through_the_nodes(tmp_path):
         # (test_quadruped.py: the nodes add nothing once the targets follow simulated time); 3.5x
         assert rms < 4e-4, f'base sinusoid through the nodes tracked with rms {rms * 1e3:.3f} mm'
         assert 'safe command' not in procs.log('controller')
+        assert f'{simulator} bridge: 12 joints' in procs.log('bridge')
     finally:
         probe.close()
         procs.stop()
