@@ -17,6 +17,7 @@ import numpy as np
 import orca_ros as orca
 from orca_ros.view.gizmos import GizmoBook, to_matrix, to_position_wxyz
 from orca_ros.view.robot_scene import RobotScene
+import pytest
 
 
 def _pose(xyz, angle=0.0):
@@ -81,6 +82,25 @@ def test_the_scene_places_the_arm_as_the_controller_model_does():
     # unknown joint names and NaN are left out; the state stays as it was
     scene.update({'no_joint': 1.0, 'joint_1': float('nan')})
     assert np.allclose(scene.frame_pose('link_7'), robot.get_frame_pose('link_7'))
+
+
+def test_the_arm_as_mjcf_looks_as_its_urdf():
+    """The scene of ``mjcf/lwr.xml`` (its file) draws the URDF's visuals where the URDF's are."""
+    scenes = []
+    for path in (orca.default_urdf_path(), orca.share_path('mjcf', 'lwr.xml')):
+        with open(path) as fh:
+            scenes.append(RobotScene(fh.read(), path))
+    q = dict(zip(scenes[0].joint_names, [0.3, 0.5, -0.2, -1.2, 0.4, 0.6, -0.1]))
+    for scene in scenes:
+        scene.update(q)
+    urdf, mjcf = scenes
+    assert mjcf.joint_names == urdf.joint_names and len(mjcf.visuals) == len(urdf.visuals) == 8
+    for a, b, Ta, Tb in zip(urdf.visuals, mjcf.visuals, urdf.visual_poses(), mjcf.visual_poses()):
+        assert np.allclose(Ta, Tb, rtol=0.0, atol=1e-12)
+        assert np.allclose(a.vertices, b.vertices, rtol=0.0, atol=1e-12)
+        assert np.allclose(a.rgba, b.rgba, rtol=0.0, atol=1e-7)  # the URDF's colours are float32
+    with pytest.raises(ValueError, match='MJCF text without its file'):
+        RobotScene(open(orca.share_path('mjcf', 'lwr.xml')).read())
 
 
 def _report(median, p99, **extra):

@@ -28,6 +28,7 @@ import numpy as np
 import pinocchio as pin
 
 from . import shapes
+from ..robot.mjcf import build_mjcf_model, is_mjcf
 from ..robot.urdf_text import resolve_package_uris
 
 
@@ -61,24 +62,38 @@ def _mesh_of(geometry) -> tuple[np.ndarray, np.ndarray]:
     raise ValueError(f'no mesh for a visual of type {type(geometry).__name__}')
 
 
+def _models(text: str, path: str, floating_base: bool, package_dirs):
+    """Return (model, visual geometry model) of URDF text, or of MJCF text's file ``path``."""
+    if is_mjcf(text):
+        if not path:
+            raise ValueError('MJCF text without its file: give web_view the file (urdf_path)')
+        model = build_mjcf_model(path, floating_base)
+        try:
+            return model, pin.buildGeomFromMJCF(model, path, pin.VISUAL)
+        except (RuntimeError, ValueError) as exc:
+            raise ValueError(f'MJCF visuals not loadable: {exc}') from exc
+    text = resolve_package_uris(text, path, package_dirs)
+    try:
+        if floating_base:
+            model = pin.buildModelFromXML(text, pin.JointModelFreeFlyer())
+        else:
+            model = pin.buildModelFromXML(text)
+        return model, pin.buildGeomFromUrdfString(model, text, pin.VISUAL)
+    except (RuntimeError, ValueError) as exc:
+        raise ValueError(f'URDF not loadable: {exc}') from exc
+
+
 class RobotScene:
     def __init__(self, urdf_text: str, urdf_path: str = '', floating_base: bool = False,
                  package_dirs=None):
         """
-        Load the model and its visuals from URDF text.
+        Load the model and its visuals from URDF text, or MJCF text and its file.
 
-        ``urdf_path``: where the text came from (``package://`` names are looked up from there);
-        raises ValueError naming what cannot be loaded.
+        ``urdf_path``: where the text came from (``package://`` names are looked up from there;
+        MJCF needs it: its meshes are found from its directory); raises ValueError naming what
+        cannot be loaded.
         """
-        text = resolve_package_uris(urdf_text, urdf_path, package_dirs)
-        try:
-            if floating_base:
-                self.model = pin.buildModelFromXML(text, pin.JointModelFreeFlyer())
-            else:
-                self.model = pin.buildModelFromXML(text)
-            self.geom_model = pin.buildGeomFromUrdfString(self.model, text, pin.VISUAL)
-        except (RuntimeError, ValueError) as exc:
-            raise ValueError(f'URDF not loadable: {exc}') from exc
+        self.model, self.geom_model = _models(urdf_text, urdf_path, floating_base, package_dirs)
         self.floating = floating_base
         self.data = self.model.createData()
         self.geom_data = pin.GeometryData(self.geom_model)
