@@ -85,7 +85,7 @@ def _world(simulator: str):
     return SimServer
 
 
-class SimBridge(GuardedNode, SimObstacles):
+class SimBridge(GuardedNode):
     #: the simulator: 'pybullet' or 'mujoco' (the node is named <simulator>_bridge)
     SIMULATOR = 'pybullet'
 
@@ -206,7 +206,8 @@ class SimBridge(GuardedNode, SimObstacles):
             Float64MultiArray, f'/{controller_name}/commands', self._on_command, COMMAND_QOS
         )
         self.create_service(Trigger, '~/reset', self._on_reset)
-        self.setup_obstacles()  # the controller's obstacle markers, as bodies (sim_obstacles.py)
+        # the controller's obstacle markers, as bodies in the simulation
+        self.obstacles = SimObstacles(self, self.server, self.model)
         self.create_service(Trigger, '~/pause', self._on_pause)
         self.create_service(Trigger, '~/unpause', self._on_unpause)
         self._js = JointState()

@@ -38,11 +38,20 @@ OVERLAP = 0.01
 
 
 class SimObstacles:
-    def setup_obstacles(self) -> None:
+    """
+    The bridge's part that keeps the simulation's obstacles as the markers say.
+
+    ``node``: the bridge (its parameters, subscription and log: ``param``, ``create_subscription``,
+    ``say``, ``get_logger``); ``world``: the simulated world (its ``obstacles``); ``robot``: the
+    simulated robot (its base pose, its links for the overlap check).
+    """
+
+    def __init__(self, node, world, robot):
+        self._node, self._world, self._robot = node, world, robot
         self._shapes: dict = {}  # marker name -> (shape, size) of the obstacle simulated
-        topic = str(param(self, 'obstacles_topic', '/orca_controller/obstacles'))
+        topic = str(param(node, 'obstacles_topic', '/orca_controller/obstacles'))
         if topic:
-            self.create_subscription(MarkerArray, topic, self._on_obstacles, DEFAULT_QOS)
+            node.create_subscription(MarkerArray, topic, self._on_obstacles, DEFAULT_QOS)
 
     def _on_obstacles(self, msg: MarkerArray) -> None:
         for m in msg.markers:
@@ -50,22 +59,24 @@ class SimObstacles:
             try:
                 self._apply_marker(m, name)
             except ValueError as exc:
-                self.say('warning', 'obstacles', f"obstacle marker '{name}' not simulated: {exc}")
+                self._node.say('warning', 'obstacles',
+                               f"obstacle marker '{name}' not simulated: {exc}")
 
     def _apply_marker(self, m, name: str) -> None:
-        world = self.server.obstacles
+        world = self._world.obstacles
+        log = self._node.get_logger()
         action = marker_action(m, self._shapes)
         if action != Marker.ADD:
             for n in list(self._shapes) if action == Marker.DELETEALL else [name]:
                 world.remove(n)
                 del self._shapes[n]
-                self.get_logger().info(f"obstacle '{n}' removed from the simulation")
+                log.info(f"obstacle '{n}' removed from the simulation")
             return
         shape, size, pose, frame = marker_obstacle(m, '')
         if frame not in (None, ''):
             raise ValueError(f"frame '{frame}': only world and the base frame are simulated")
         if frame == '':  # the base frame
-            pose = self.model.get_world_to_base_transform() @ pose
+            pose = self._robot.get_world_to_base_transform() @ pose
         if self._shapes.get(name) == (shape, size):
             was = world.pose(name)
             world.move(name, pose)
@@ -85,11 +96,11 @@ class SimObstacles:
             world.remove(name)
             raise
         self._shapes[name] = (shape, size)
-        self.get_logger().info(f"obstacle '{name}' in the simulation ({shape} {size})")
+        log.info(f"obstacle '{name}' in the simulation ({shape} {size})")
 
     def _check_overlap(self, name: str) -> None:
         """Raise ValueError if obstacle ``name`` goes more than OVERLAP into the robot's links."""
-        depth, link = self.server.obstacles.depth_into(name, self.model)
+        depth, link = self._world.obstacles.depth_into(name, self._robot)
         if depth > OVERLAP:
             raise ValueError(f"it would go {depth * 1e3:.0f} mm into the robot ('{link}'): "
                              'no real obstacle can')
