@@ -19,6 +19,7 @@ import numpy as np
 import orca_ros as orca
 from orca_ros.ros.launch_free import free_domain_id, Procs
 from orca_ros.ros.probe import Probe
+import pytest
 from std_msgs.msg import Float64MultiArray
 
 NAMES = [f'joint_{i}' for i in range(7)]
@@ -118,11 +119,12 @@ def test_controller_survives_bad_states_and_targets(tmp_path):
         procs.stop()
 
 
-def test_bridge_rejects_bad_commands(tmp_path):
+@pytest.mark.parametrize('simulator', ['pybullet', 'mujoco'])
+def test_bridge_rejects_bad_commands(tmp_path, simulator):
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
     procs.start(
-        'orca_ros.ros.pybullet_bridge',
+        f'orca_ros.ros.{simulator}_bridge',
         '-p',
         'mode:=free_running',
         '-p',

@@ -17,6 +17,7 @@ An arm with a gripper: the controller commands the 7 arm joints and leaves the f
 Franka Panda of ``pybullet_data`` (9 joints: 7 revolute, 2 prismatic fingers). The bridge takes 7
 efforts and holds the fingers with the simulator's position motor (the gripper's own driver); the
 controller locks the fingers in its model at the measured opening and still reaches its targets.
+On either bridge (MuJoCo's: a position actuator holds the fingers).
 """
 
 import os
@@ -26,6 +27,7 @@ import orca_ros as orca
 from orca_ros.ros.launch_free import free_domain_id, Procs
 from orca_ros.ros.probe import Probe
 import pybullet_data
+import pytest
 
 URDF = os.path.join(pybullet_data.getDataPath(), 'franka_panda', 'panda.urdf')
 ARM = [f'panda_joint{i}' for i in range(1, 8)]
@@ -74,13 +76,14 @@ def _grasp_target_pose(model, q, fingers):
     return model.get_frame_pose('panda_grasptarget')
 
 
-def test_arm_with_gripper_commands_only_the_arm_joints(tmp_path):
+@pytest.mark.parametrize('simulator', ['pybullet', 'mujoco'])
+def test_arm_with_gripper_commands_only_the_arm_joints(tmp_path, simulator):
     params = tmp_path / 'panda.yaml'
     params.write_text(PARAMS)
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
     procs.start(
-        'orca_ros.ros.pybullet_bridge',
+        f'orca_ros.ros.{simulator}_bridge',
         '-p', f'urdf_path:={URDF}',
         '-p', 'mode:=lockstep',
         '-p', f'joints:={ARM}',

@@ -31,13 +31,14 @@ TARGET = [-0.45, -0.2, 0.45]
 RPY = [3.14159, -0.84159, 3.14159]
 
 
-def _run(tmp_path, velocities: bool):
+def _run(tmp_path, velocities: bool, simulator: str):
     domain = free_domain_id()
     run = tmp_path / f'velocities_{velocities}'
     run.mkdir()
     procs = Procs(domain, str(run))
     procs.start_arm(
         'lockstep',
+        simulator=simulator,
         controller_args=('-p', f'tasks.ee.target_position:={TARGET}',
                          '-p', f'tasks.ee.target_rpy:={RPY}'),
         bridge_args=('-p', 'stop_time:=3.0', '-p', f'publish_velocities:={velocities}'),
@@ -56,14 +57,15 @@ def _run(tmp_path, velocities: bool):
     return robot.get_frame_pose('link_7')[:3, 3], log
 
 
-def test_positions_only_reach_the_target_as_with_velocities(tmp_path):
+@pytest.mark.parametrize('simulator', ['pybullet', 'mujoco'])
+def test_positions_only_reach_the_target_as_with_velocities(tmp_path, simulator):
     """
     The end effector ends within 2 mm of where the run with velocities ends (and at the target).
 
-    The controller says once that it estimates them.
+    The controller says once that it estimates them. On either bridge (``publish_velocities``).
     """
-    with_v, log_v = _run(tmp_path, True)
-    without_v, log = _run(tmp_path, False)
+    with_v, log_v = _run(tmp_path, True, simulator)
+    without_v, log = _run(tmp_path, False, simulator)
     gap = np.linalg.norm(without_v - with_v)
     print(f'end effector: {with_v} with velocities, {without_v} without: {gap * 1e3:.3f} mm')
     assert gap < 2e-3

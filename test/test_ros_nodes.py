@@ -161,16 +161,14 @@ def test_lockstep_steps_once_per_answered_instant(tmp_path, simulator):
     a named answer step once, which is what this test checks; once one came through, the writer is
     matched both ways and the next commands, sent once, arrive in order.
     """
-    from orca_ros.ros.common import ANSWERS, COMMAND_WRITER_QOS
+    from orca_ros.ros.common import ANSWERS
     from std_msgs.msg import Float64MultiArray, MultiArrayDimension
 
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
     procs.start_arm_bridge('lockstep', simulator=simulator)
     probe = Probe(domain)
-    pub = probe.node.create_publisher(
-        Float64MultiArray, '/effort_controller/commands', COMMAND_WRITER_QOS
-    )
+    pub = _command_writer(probe)
 
     def command(answers=None):
         m = Float64MultiArray()
@@ -278,11 +276,31 @@ def test_pause_enable_and_diagnostics(system):
 BRIDGES_AGREE = 1e-9
 
 
-def _drive(tmp_path, simulator, torques):
-    """Step ``simulator``'s lockstep bridge once per torque row (answering each state); q, v."""
-    from orca_ros.ros.common import ANSWERS, COMMAND_WRITER_QOS
+def _step(probe, pub, tau):
+    """Send a lockstep bridge ``tau`` answering its last state, until it has stepped."""
+    from orca_ros.ros.common import ANSWERS
     from std_msgs.msg import Float64MultiArray, MultiArrayDimension
 
+    t = probe.sim_time()
+    m = Float64MultiArray(data=list(tau))
+    m.layout.dim = [MultiArrayDimension(label=f'{ANSWERS}{round(t * 1e9)}', size=7, stride=7)]
+    # repeated until it steps (the first may go before discovery matched; copies of an answered
+    # instant do not step again: test_lockstep_steps_once_per_answered_instant)
+    probe.publish_until(lambda: pub.publish(m), lambda: probe.sim_time() > t, 'a step',
+                        timeout=60.0)
+
+
+def _command_writer(probe):
+    from orca_ros.ros.common import COMMAND_WRITER_QOS
+    from std_msgs.msg import Float64MultiArray
+
+    return probe.node.create_publisher(
+        Float64MultiArray, '/effort_controller/commands', COMMAND_WRITER_QOS
+    )
+
+
+def _drive(tmp_path, simulator, torques):
+    """Step ``simulator``'s lockstep bridge once per torque row (answering each state); q, v."""
     domain = free_domain_id()
     (tmp_path / simulator).mkdir()
     procs = Procs(domain, str(tmp_path / simulator))
@@ -291,21 +309,12 @@ def _drive(tmp_path, simulator, torques):
     procs.start_arm_bridge('lockstep', '-p', 'control_period:=0.005', '-p', 'ground_plane:=false',
                            '-p', 'gravity_compensation:=true', simulator=simulator)
     probe = Probe(domain)
-    pub = probe.node.create_publisher(
-        Float64MultiArray, '/effort_controller/commands', COMMAND_WRITER_QOS
-    )
+    pub = _command_writer(probe)
     path = []
     try:
         probe.wait_for(lambda: probe.sim_time() >= 0.0, 60, "the simulator's first state")
         for tau in torques:
-            t = probe.sim_time()
-            m = Float64MultiArray(data=tau.tolist())
-            m.layout.dim = [MultiArrayDimension(label=f'{ANSWERS}{round(t * 1e9)}', size=7,
-                                                stride=7)]
-            # repeated until it steps (the first may go before discovery matched; copies of an
-            # answered instant do not step again: test_lockstep_steps_once_per_answered_instant)
-            probe.publish_until(lambda: pub.publish(m), lambda: probe.sim_time() > t,
-                                'a step', timeout=60.0)
+            _step(probe, pub, tau)
             _, q, v = probe.last_state()
             path.append(np.concatenate([q, v]))
     finally:
@@ -338,3 +347,33 @@ def test_both_bridges_move_the_arm_alike_under_the_same_torques(tmp_path):
           f'{v_gap:.1e} rad/s')
     assert moved > 0.2  # a path worth comparing
     assert q_gap < BRIDGES_AGREE and v_gap < BRIDGES_AGREE
+
+
+@pytest.mark.parametrize('simulator', ['pybullet', 'mujoco'])
+def test_the_bridge_reset_puts_the_joints_back_at_rest(tmp_path, simulator):
+    """``~/reset``: the joints at ``initial_positions``, at rest, in the next state announced."""
+    from orca_ros.ros.launch_free import ARM_Q0
+
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    procs.start_arm_bridge('lockstep', simulator=simulator)
+    probe = Probe(domain)
+    pub = _command_writer(probe)
+    try:
+        probe.wait_for(lambda: probe.sim_time() >= 0.0, 60, "the simulator's first state")
+        for _ in range(50):
+            _step(probe, pub, [5.0] * 7)
+        _, q, v = probe.last_state()
+        assert np.abs(q - ARM_Q0).max() > 1e-3 and np.abs(v).max() > 1e-2  # it moved
+        res = probe.call(Trigger, f'/{simulator}_bridge/reset', Trigger.Request())
+        assert res.success, res.message
+
+        def back():
+            _, q, v = probe.last_state()
+            return np.abs(q - ARM_Q0).max() < 1e-12 and not np.any(v)
+
+        probe.wait_for(back, 60, 'the state at the initial positions, at rest')
+        assert 'Traceback' not in procs.log('bridge')
+    finally:
+        probe.close()
+        procs.stop()

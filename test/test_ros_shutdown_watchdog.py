@@ -51,10 +51,11 @@ def tracking(probe):
     return np.abs(probe.commands[-1] - gravity(probe.states[-1][1])).max()
 
 
-def start(tmp_path, mode, *controller_args, bridge_args=()):
+def start(tmp_path, mode, *controller_args, bridge_args=(), simulator='pybullet'):
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    procs.start_arm(mode, controller_args=controller_args, bridge_args=bridge_args)
+    procs.start_arm(mode, controller_args=controller_args, bridge_args=bridge_args,
+                    simulator=simulator)
     return procs, Probe(domain)
 
 
@@ -102,9 +103,11 @@ def test_signal_sends_the_hold_and_exits_cleanly(tmp_path, sig):
         procs.stop()
 
 
-def test_killed_controller_bridge_holds(tmp_path):
+@pytest.mark.parametrize('simulator', ['pybullet', 'mujoco'])
+def test_killed_controller_bridge_holds(tmp_path, simulator):
     procs, probe = start(
-        tmp_path, 'free_running', bridge_args=('-p', 'rate:=1000.0', '-p', 'command_timeout:=0.02')
+        tmp_path, 'free_running',
+        bridge_args=('-p', 'rate:=1000.0', '-p', 'command_timeout:=0.02'), simulator=simulator,
     )
     try:
         probe.wait_for(lambda: len(probe.commands) > 1500, 120, 'the controller running')

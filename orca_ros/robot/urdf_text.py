@@ -36,17 +36,20 @@ def package_directory(package: str, urdf_path: str, package_dirs=None) -> str | 
     Directory of ROS package ``package`` for the URDF at ``urdf_path``.
 
     ``package_dirs`` ({name: directory}) first; else the nearest parent directory of the URDF
-    named after the package (a package's share directory holds its URDF files).
+    named after the package (a package's share directory holds its URDF files); else a directory
+    of that name beside the URDF (PyBullet's reading: pybullet_data's Panda names its meshes
+    ``package://meshes/...``, its ``meshes`` directory beside the file).
     """
     if package_dirs and package in package_dirs:
         return os.path.abspath(package_dirs[package])
-    d = os.path.dirname(os.path.abspath(urdf_path))
+    here = d = os.path.dirname(os.path.abspath(urdf_path))
     while True:
         if os.path.basename(d) == package:
             return d
         parent = os.path.dirname(d)
         if parent == d:
-            return None
+            beside = os.path.join(here, package)
+            return beside if os.path.isdir(beside) else None
         d = parent
 
 
