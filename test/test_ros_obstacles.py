@@ -132,10 +132,10 @@ def test_the_arm_yields_to_a_ball_and_returns_when_it_is_deleted(tmp_path):
 
         sent = [t0]
 
-        def pose_next_step():
+        def pose_next_step(answered):
             # the instant the command being relayed leads to: one step after the state it
-            # answers, and after the last pose's
-            t = max(probe.sim_time() + DT, sent[-1] + DT)
+            # answers (the same instant again for a state announced again)
+            t = answered + DT
             send(_marker(ball(t), stamp=t))
             sent.append(t)
 

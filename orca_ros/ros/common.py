@@ -159,6 +159,17 @@ def stamp_to_sec(stamp) -> float:
 ANSWERS = 'answers_state_ns='
 
 
+def answered_ns(msg) -> int | None:
+    """Return the instant [ns] of the state a command names (:data:`ANSWERS`), or None."""
+    dim = msg.layout.dim
+    if not dim or not dim[0].label.startswith(ANSWERS):
+        return None
+    try:
+        return int(dim[0].label[len(ANSWERS):])
+    except ValueError:
+        return None
+
+
 def stamp_ns(stamp) -> int:
     """Return a message stamp in integer nanoseconds (exact, to compare stamps)."""
     return stamp.sec * 1_000_000_000 + stamp.nanosec

@@ -26,6 +26,8 @@ import time
 import numpy as np
 import orca_ros as orca
 
+from .common import answered_ns
+
 
 class Probe:
     """Rclpy node in the calling process, spinning in a thread; records states and commands."""
@@ -90,9 +92,14 @@ class Probe:
             Float64MultiArray, '/effort_controller/commands', COMMAND_QOS
         )
         # relay_from (a topic): the probe joins the lockstep loop. The controller sends its
-        # commands there (its command_topic); the probe calls relay_hook() (e.g. to send the
-        # target of the next simulated instant), then forwards the command to the simulator, so
-        # the loop advances only as fast as the probe keeps up
+        # commands there (its command_topic); the probe calls relay_hook(answered) (e.g. to send
+        # the target of the next simulated instant), then forwards the command to the simulator,
+        # so the loop advances only as fast as the probe keeps up. ``answered``: the instant [s]
+        # of the state the command answers (the command names it, common.ANSWERS), None when it
+        # names none. A state announced again is answered again with the same command: the
+        # hook sees that instant twice (counting the relayed commands as steps ran the targets
+        # ahead of the simulation by a step at each, and a ball posed 2 ms ahead stepped the
+        # lwr's torques 11 Nm)
         self.relay_hook = None
         self.relay_errors: list = []
         if relay_from:
@@ -122,7 +129,8 @@ class Probe:
         hook = self.relay_hook
         if hook is not None:
             try:
-                hook()
+                answered = answered_ns(m)
+                hook(None if answered is None else answered * 1e-9)
             except Exception as exc:  # noqa: BLE001 - reported to the test, the loop goes on
                 self.relay_errors.append(exc)
         self.pub_command.publish(m)

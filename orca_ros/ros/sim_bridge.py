@@ -59,7 +59,7 @@ from std_msgs.msg import Float64MultiArray, String
 from std_srvs.srv import Trigger
 
 from .common import (
-    ANSWERS,
+    answered_ns,
     COMMAND_QOS,
     DESCRIPTION_QOS,
     param,
@@ -279,13 +279,8 @@ class SimBridge(GuardedNode):
         The controller answers a state announced again (see the module) with the same command:
         sent twice, it must step once. Commands that name no state step on arrival.
         """
-        dim = msg.layout.dim
-        if not dim or not dim[0].label.startswith(ANSWERS):
-            return False
-        try:
-            return int(dim[0].label[len(ANSWERS):]) != self._state_ns
-        except ValueError:
-            return False
+        answered = answered_ns(msg)
+        return answered is not None and answered != self._state_ns
 
     def _advance(self) -> None:
         if self.stop_time > 0 and self.server.get_time() >= self.stop_time - 1e-9:
