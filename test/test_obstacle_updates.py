@@ -191,3 +191,67 @@ def test_velocity_from_poses_within_the_window_and_of_one_clock():
     assert track.observe('b', [0.0, 0.07, 0.0], 1.65, clock='receipt') is None  # another clock
     track.forget('b')
     assert track.observe('b', [0.0, 0.08, 0.0], 1.7, clock='receipt') is None
+
+
+def _ball_pair(col):
+    """Return (row, distance) of the ball's closest pair in the last cycle's rows, or None."""
+    rows = [(i, d) for i, (_, b, d) in enumerate(col.last_pairs) if 'ball' in b]
+    return min(rows, key=lambda r: r[1]) if rows else None
+
+
+@pytest.mark.parametrize('compiled', [True, False], ids=['compiled', 'reference'])
+def test_a_pair_creeping_onto_the_safety_distance_tightens_its_bound_at_a_bounded_rate(compiled):
+    """
+    The braking margin's term tightens a row at A / horizon per second at most.
+
+    Near the limit its slope in the distance is A / (h v / 2): at a closing speed of 10 um/s,
+    10 m/s^2 per micrometre. The ball creeps onto the safety distance 0.2 um per cycle while its
+    velocity says 10 um/s (as the lwr's link 6 crept onto the ball in test_ros_obstacles.py, its
+    simulator integrating ahead of the constraint's model): the row's bound rises by at most
+    A / h dt per cycle, where it jumped 2-3 m/s^2 (up to 9.3 Nm in one cycle through the nodes).
+    What viability and the horizon ask applies at once: the bound never falls below them.
+    """
+    robot, c = _lwr(compiled)
+    col = c.get_constraint('collision')
+    q, v = np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0]), np.zeros(7)
+    robot.set_robot_state(q, v)
+    c.get_task('ee').servo_controller().set_desired(robot.get_frame_pose('link_7'))
+    c.activate_tasks_and_constraints()
+    pose = np.eye(4)
+    pose[:3, 3] = robot.get_frame_pose('link_7')[:3, 3] - [0.0, 0.1, 0.0]
+    col.add_obstacle('ball', 'sphere', [RADIUS], pose)
+    safety, A, h = col.safety_distance, col.max_deceleration, col.horizon
+    relax = A / h * DT
+    speed, creep = 1e-5, 0.2e-6  # the velocity said, the distance lost per cycle [m/s, m]
+    t = 0.0
+
+    def cycle(y):
+        nonlocal t
+        pose[1, 3] = y
+        col.move_obstacle('ball', pose, None, np.array([0.0, speed, 0.0]), t)
+        robot.set_robot_state(q, v)
+        assert c.update(t, DT), c.get_return_code()
+        t += DT
+        return _ball_pair(col)
+
+    y = pose[1, 3]
+    for _ in range(3):  # the ball 20 um outside the safety distance (its y per distance lost)
+        d0 = cycle(y)[1]
+        slope = (d0 - cycle(y + 1e-4)[1]) / 1e-4
+        y += (d0 - safety - 20e-6) / slope
+    for _ in range(20):  # settled there
+        cycle(y)
+    rises, prev = [], None
+    while True:
+        y += creep / slope
+        row, d = cycle(y)
+        lb = float(col.lb[row])
+        if prev is not None:
+            rises.append(lb - prev)
+        prev = lb
+        if d - safety < 0.02e-6:
+            break
+    print(f'{len(rises)} cycles from 20 um to the safety distance: the bound rose by at most '
+          f'{max(rises):.4f} m/s^2 per cycle (A / h dt = {relax:.3f})')
+    assert len(rises) > 50
+    assert max(rises) <= relax + 1e-9

@@ -271,6 +271,7 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         super().resize(layout)
         m = self.max_pairs
         self._room, self._vel, self._out = np.zeros(m), np.zeros(m), np.zeros(m)
+        self._out_safe = np.zeros(m)
         self._sel, self._seld = np.zeros(m, dtype=np.int64), np.zeros(m)
         self._written[0] = 0
         # the rows of the last cycle, their pairs and distances (see hold_departed)
@@ -407,15 +408,28 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         for i, (_, closing, row, dr, k, d) in enumerate(rows):
             C[i, acc] = row
             room[i], vel[i], drift[i] = d - self.floor_of(k, d, cycle), closing, dr
-        self._bound.upper(room, vel, dt, max(self.horizon, dt), out, one_step=False)
+        h = max(self.horizon, dt)
+        self._bound.upper(room, vel, dt, h, out, one_step=False)
         m = len(rows)
         lb[:m] = -out[:m] - drift  # closing acceleration at most out: d_ddot >= -out
-        # a bound relaxes at most at A / horizon per second (never past its cap A - drift)
-        relax = self.max_deceleration / max(self.horizon, dt) * dt
+        safe = None  # the bounds without the braking margin's term, when needed
+        # a bound relaxes at most at A / horizon per second (never past its cap A - drift); the
+        # braking margin's term tightens at that rate at most (what viability and the horizon
+        # ask applies at once): near the limit at a closing speed v its slope in the distance is
+        # A / (h v / 2), 10 m/s^2 per micrometre at 10 um/s, and a pair creeping onto the safety
+        # distance (the ball sliding along the lwr's link 6, 0.2 um per cycle) stepped the
+        # torques up to 9.3 Nm in one cycle
+        relax = self.max_deceleration / h * dt
         for i in range(m):
             k = rows[i][4]
-            if when[k] == cycle - 1 and lb[i] < kept[k] - relax:
-                lb[i] = min(kept[k] - relax, self.max_deceleration - drift[i])
+            if when[k] == cycle - 1:
+                if lb[i] > kept[k] + relax:
+                    if safe is None:
+                        safe = -self._bound.upper(room, vel, dt, h, self._out_safe,
+                                                  one_step=False, margin=False)[:m] - drift
+                    lb[i] = max(safe[i], kept[k] + relax)
+                if lb[i] < kept[k] - relax:
+                    lb[i] = min(kept[k] - relax, self.max_deceleration - drift[i])
             # never more than the joints can give the pair (see _capacity)
             lb[i] = min(lb[i], float(np.abs(rows[i][2]) @ self.capacity))
             kept[k], when[k] = lb[i], cycle

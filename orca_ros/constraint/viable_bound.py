@@ -86,6 +86,7 @@ class ViableBound:
         viable: bool = True,
         margin_share: float = _MARGIN_SHARE,
         brake_when_spent: bool = False,
+        margin: bool = True,
     ) -> np.ndarray:
         """
         Write into ``out`` the largest admissible acceleration towards each limit.
@@ -96,7 +97,8 @@ class ViableBound:
         next state's viability (a stop within one step: a bound whose braking A is a model, not
         the actuators' limit); ``margin_share``: the braking margin's time constant in horizons;
         ``brake_when_spent``: brake at A where the margin is spent too (s <= 0, moving towards the
-        limit), not only where it shrinks.
+        limit), not only where it shrinks; ``margin=False`` leaves the braking margin's term out
+        (what the bound is without it: the collision rows limit how fast that term alone tightens).
         """
         R, a, d, e = self._room, self._a, self._d, self._e
         if self._acc_dt != dt:
@@ -121,6 +123,9 @@ class ViableBound:
         np.minimum(d, e, out=d)
         # the braking margin shrinks at most with the time constant margin_share h (towards the
         # limit only)
+        if not margin:
+            np.maximum(d, self._acc_neg, out=d)
+            return self._finish(a, d, dt2, one_step, out)
         f = self._f
         np.multiply(self._acc, R, out=f)
         f -= 0.5 * np.square(v, out=e)  # f: A s, the margin times A
@@ -134,6 +139,9 @@ class ViableBound:
         f -= self._acc
         np.minimum(d, f, out=d, where=self._towards)
         np.maximum(d, self._acc_neg, out=d)
+        return self._finish(a, d, dt2, one_step, out)
+
+    def _finish(self, a, d, dt2: float, one_step: bool, out) -> np.ndarray:
         if one_step:  # the next position within the limit, exactly
             np.multiply(a, 2.0 / dt2, out=a)
             np.minimum(a, d, out=out)

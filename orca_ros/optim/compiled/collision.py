@@ -159,8 +159,15 @@ def rows(ws, n, dt, acc0):
                     ws.found[0] += 1
             ws.floor[k] = floor
             bound = -viable_upper(d - floor, closing, A, dt, max(h, dt), False) - drift
-            if ws.kept_cycle[k] == cycle - 1 and bound < ws.kept[k] - relax:
-                bound = min(ws.kept[k] - relax, A - drift)
+            if ws.kept_cycle[k] == cycle - 1:
+                # the braking margin's term tightens at A / horizon per second at most; what
+                # viability and the horizon ask, at once (CollisionAvoidanceConstraint._write_rows)
+                if bound > ws.kept[k] + relax:
+                    safe = -viable_upper(d - floor, closing, A, dt, max(h, dt), False,
+                                         False) - drift
+                    bound = max(safe, ws.kept[k] + relax)
+                if bound < ws.kept[k] - relax:
+                    bound = min(ws.kept[k] - relax, A - drift)
             cap = 0.0  # never more than the joints can give the pair (collision_avoidance's
             for c in range(row.shape[0]):  # _capacity)
                 cap += abs(row[c]) * ws.capacity[c]

@@ -254,7 +254,7 @@ def joint_rows(rec, n, q, v, f, dt, tmp):
 
 
 @njit
-def viable_upper(room, v, acc, dt, h, one_step):
+def viable_upper(room, v, acc, dt, h, one_step, margin=True):
     """Return the largest admissible acceleration towards one limit (as ViableBound.upper)."""
     if room >= _FAR:
         return np.inf
@@ -271,9 +271,9 @@ def viable_upper(room, v, acc, dt, h, one_step):
         d = max((math.sqrt(disc) - b) * (0.5 / dt2), stop)
     e = (R - h * v) * (2.0 / (h * h))
     d = min(d, e)
-    margin = acc * R - 0.5 * v * v  # A s: the braking margin (ViableBound.upper's f)
-    if v > 0.0 and margin > 0.0:  # it shrinks at most with the time constant h / 2
-        d = min(d, margin / (MARGIN_SHARE * h * v) - acc)
+    spare = acc * R - 0.5 * v * v  # A s: the braking margin (ViableBound.upper's f)
+    if margin and v > 0.0 and spare > 0.0:  # it shrinks at most with the time constant h / 2
+        d = min(d, spare / (MARGIN_SHARE * h * v) - acc)
     d = max(d, -acc)
     if one_step:
         return min(a * (2.0 / dt2), d)
