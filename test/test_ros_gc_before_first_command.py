@@ -57,13 +57,13 @@ def test_the_collector_is_frozen_before_the_first_command(restore_gc):
     try:
         node = OrcaControllerNode()
         seen = []  # (frozen objects, collector enabled) at each publish
-        publish = node.pub_cmd.publish
+        publish = node.output.pub.publish
 
         def watched(msg):
             seen.append((gc.get_freeze_count(), gc.isenabled()))
             publish(msg)
 
-        node.pub_cmd.publish = watched
+        node.output.pub.publish = watched
         # nothing frozen by the node before a state
         assert gc.get_freeze_count() == frozen_before and gc.isenabled()
         feeder = rclpy.create_node('feeder')

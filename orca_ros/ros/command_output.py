@@ -12,83 +12,121 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-The controller node's command interface: effort commands out, the safe command, the hold at exit.
+The controller node's command side: its command interface on the wire, the safe command, the hold.
 
-A part of :class:`.controller_node.OrcaControllerNode` (a mixin: the same node). Every command
-goes out through :meth:`_publish` (model order in, ``joints`` order on the wire; in lockstep
-naming the state it answers, :data:`.common.ANSWERS`); a fault sends the safe command with a
-log line naming its cause once per spell; shutdown sends the hold and waits for its delivery.
+A part of :class:`.controller_node.OrcaControllerNode` with a small interface: :meth:`solved` (a
+solved cycle's torques and accelerations at the measured state), :meth:`hold` (a fault's,
+with a log line naming its cause once per spell), :meth:`repeat` (the last command again, for a
+state announced again in lockstep) and :meth:`shutdown_hold`. What goes out is the interface's
+(:class:`orca_ros.command.JointCommand`: efforts, a position and/or velocity reference, or joint
+impedance) in the wire layout of :mod:`.command_wire`, model order in, ``joints`` order on the
+wire; in lockstep each command names the state it answers.
 """
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
-from std_msgs.msg import Float64MultiArray, MultiArrayDimension
 
-from .common import ANSWERS, COMMAND_WRITER_QOS, param
+from .command_wire import command_message, set_answered
+from .common import COMMAND_WRITER_QOS, param
+from ..command import JointCommand
 
 
 class CommandOutput:
-    """The effort command publication of the controller node (see the module)."""
+    """The command publication of the controller node (see the module)."""
 
-    def _init_command_output(self) -> None:
-        self._safe_reason = self._safe_cause = None
-        self._safe_said = False  # the current safe spell's line is in the log
-        self.commands_sent = 0  # every command published (solved, safe or hold)
-        self._cmd_msg = Float64MultiArray()
-        self._cmd_msg.data = [0.0] * self.n
-        # lockstep: the command names the state it answers (common.ANSWERS)
-        self._state_ns = 0
-        self._cmd_dim = None
-        if self.trigger == 'joint_state':
-            self._cmd_dim = MultiArrayDimension(label=ANSWERS, size=self.n, stride=self.n)
-            self._cmd_msg.layout.dim = [self._cmd_dim]
-        self.pub_cmd = self.create_publisher(
-            Float64MultiArray,
-            str(param(self, 'command_topic', '/effort_controller/commands')),
-            COMMAND_WRITER_QOS,
+    def __init__(self, node, say, command, safe, wire_of_model, topic: str, lockstep: bool):
+        self.say = say
+        self.command = command  # orca_ros.command.JointCommand
+        self.safe = safe  # orca_ros.safety.SafeCommand
+        self.n = command.n
+        self._wire_of_model = np.asarray(wire_of_model, dtype=int)
+        self.reason = self.cause = None  # of the current safe spell
+        self._said = False  # the current spell's line is in the log
+        self.sent = 0  # every command published (solved, safe or hold)
+        self.last_effort = np.zeros(self.n)  # model order: where a hold's fade starts
+        self.answered = 0  # lockstep: the stamp [ns] of the state the next command answers
+        self._lockstep = lockstep
+        self.msg = command_message(command.fields, self.n, lockstep)
+        self._wire = np.empty((len(command.fields), self.n))
+        self.pub = node.create_publisher(type(self.msg), topic, COMMAND_WRITER_QOS)
+
+    @classmethod
+    def of_node(cls, node, robot, safe, wire_of_model, lockstep: bool):
+        """
+        Make the node's command side from its parameters.
+
+        ``command_interface``, ``joint_stiffness``, ``joint_damping``, the reference's leashes,
+        ``command_topic``; ValueError naming a bad one.
+        """
+        command = JointCommand(
+            str(param(node, 'command_interface', 'effort')),
+            robot,
+            param(node, 'joint_stiffness', None),
+            param(node, 'joint_damping', None),
+            float(param(node, 'reference_position_leash', 0.05)),
+            float(param(node, 'reference_velocity_leash', 0.5)),
         )
+        topic = str(param(node, 'command_topic', '/effort_controller/commands'))
+        return cls(node, node.say, command, safe, wire_of_model, topic, lockstep)
 
-    def _publish_safe(
-        self, t: float, cause: str, reason: str, fresh: bool = True, level: str = 'warning'
-    ) -> None:
-        if reason != self._safe_reason:
-            self._safe_reason, self._safe_cause, self._safe_said = reason, cause, False
-        if not self._safe_said and self.say.due(cause):  # a line the throttle would hold back
+    def solved(self, q, v, tau, acceleration, dt: float) -> bool:
+        """
+        Send a solved cycle's command; False (nothing sent) when it is not finite.
+
+        ``tau`` is clipped to the torque limits first.
+        """
+        if not (np.all(np.isfinite(tau)) and np.all(np.isfinite(acceleration))):
+            return False  # the reference is left as it was
+        tau = np.clip(tau, -self.safe.limit, self.safe.limit)
+        values = self.command.solved(q, v, tau, acceleration, dt)
+        self._send(values, tau if 'effort' not in self.command.fields
+                   else self.command.field('effort'))
+        return True
+
+    def hold(self, t: float, cause: str, reason: str, q, v, fresh: bool = True,
+             level: str = 'warning') -> None:
+        """
+        Send the hold of a fault (``reason``, logged once per spell under ``cause``).
+
+        ``t``: the time the fade runs on; ``fresh`` False: (q, v) are not the robot's now (a stale
+        state), the hold damps no velocity.
+        """
+        if reason != self.reason:
+            self.reason, self.cause, self._said = reason, cause, False
+        if not self._said and self.say.due(cause):  # a line the throttle would hold back
             # (its cause said < 1 s ago) goes out once it may: no safe spell goes unnamed
             text = f'safe command: {reason}' if level != 'info' else f'holding: {reason}'
-            self._safe_said = self.say(level, cause, text)
-        cmd = self.safe.compute(
-            t if fresh else time.monotonic(), self._last_cmd, self._q, self._v if fresh else None
-        )
-        self._publish(cmd)
+            self._said = self.say(level, cause, text)
+        hold = self.safe.compute(t, self.last_effort, q, v if fresh else None)
+        self._send(self.command.held(q, hold), hold)
 
-    def _publish(self, cmd_model: np.ndarray) -> None:
-        self._last_cmd[:] = cmd_model
-        wire = np.empty(self.n)
-        wire[self._wire_of_model] = cmd_model
-        self._cmd_msg.data = wire.tolist()
-        if self._cmd_dim is not None:
-            self._cmd_dim.label = f'{ANSWERS}{self._state_ns}'
-        self.pub_cmd.publish(self._cmd_msg)
-        self.commands_sent += 1
+    def recovered(self) -> str | None:
+        """End a safe spell; return its reason (None if there was none)."""
+        reason = self.reason
+        if reason is not None:
+            self.reason = self.cause = None
+            self.safe.reset()
+        return reason
 
-    def shutdown_command(self) -> None:
-        """
-        On SIGINT / SIGTERM / shutdown, while the context is valid.
+    def repeat(self) -> None:
+        """Send the last command again (the answer to a state announced again), if any."""
+        if self.sent:
+            self.pub.publish(self.msg)
 
-        Stop the loop and send the hold (gravity at the last state, zero when the drives compensate
-        it), waiting until it is delivered.
-        """
-        self._stopped = True
-        if not self._have_state:
-            return
-        self._publish(self.safe.hold(self._q, None))
+    def shutdown_hold(self, q) -> bool:
+        """Send the hold at q (at rest, undamped) and wait for its delivery; True if confirmed."""
         from rclpy.duration import Duration  # noqa: PLC0415
 
-        delivered = self.pub_cmd.wait_for_all_acked(Duration(seconds=0.5))
-        self.get_logger().info(
-            'shutdown: hold command sent' + ('' if delivered else ' (delivery not confirmed)')
-        )
+        hold = self.safe.hold(q, None)
+        self._send(self.command.held(q, hold), hold)
+        return self.pub.wait_for_all_acked(Duration(seconds=0.5))
+
+    def _send(self, values, effort) -> None:
+        self.last_effort[:] = effort
+        self._wire[:, self._wire_of_model] = values
+        self.msg.data = self._wire.ravel().tolist()
+        if self._lockstep:
+            set_answered(self.msg, self.answered)
+        self.pub.publish(self.msg)
+        self.sent += 1

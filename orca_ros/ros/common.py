@@ -161,13 +161,13 @@ ANSWERS = 'answers_state_ns='
 
 def answered_ns(msg) -> int | None:
     """Return the instant [ns] of the state a command names (:data:`ANSWERS`), or None."""
-    dim = msg.layout.dim
-    if not dim or not dim[0].label.startswith(ANSWERS):
-        return None
-    try:
-        return int(dim[0].label[len(ANSWERS):])
-    except ValueError:
-        return None
+    for dim in msg.layout.dim:
+        if dim.label.startswith(ANSWERS):
+            try:
+                return int(dim.label[len(ANSWERS):])
+            except ValueError:
+                return None
+    return None
 
 
 def stamp_ns(stamp) -> int:

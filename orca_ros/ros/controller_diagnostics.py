@@ -101,7 +101,7 @@ class ControllerDiagnostics:
             self.qp_failures,
             self.controller.dropped_levels,
         )
-        solved, sent, relaxed, ran = (self.solve_times.total, self.commands_sent,
+        solved, sent, relaxed, ran = (self.solve_times.total, self.output.sent,
                                       self.contacts_relaxed_cycles, self.loop_cycles)
         stamp = self.get_clock().now().to_msg()
         c0, f0, d0 = self._diag_marks
@@ -121,8 +121,8 @@ class ControllerDiagnostics:
             have_state=self._have_state,
             state_age=age,
             state_timeout=timeout,
-            safe_reason=self._safe_reason,
-            safe_cause=self._safe_cause,
+            safe_reason=self.output.reason,
+            safe_cause=self.output.cause,
             qp_failures=fails - f0,
             last_failure=self.last_qp_failure,
             dropped_levels=dropped - d0,

@@ -66,7 +66,6 @@ from ..utils.ring_buffer import RingBuffer
 
 class OrcaControllerNode(
     GuardedNode,
-    CommandOutput,
     StateReception,
     ControllerInterfaces,
     ControllerDiagnostics,
@@ -146,7 +145,6 @@ class OrcaControllerNode(
         self._state_wall = None  # wall time of the last valid joint state
         self._odom_wall = None  # ... and of the last valid odom (floating base)
         self._have_state = False
-        self._last_cmd = np.zeros(self.n)  # model order
         self._enabled = True
         self._t_prev = None
         self.qp_failures = 0
@@ -181,7 +179,8 @@ class OrcaControllerNode(
         self.housekeeping = Housekeeping(
             self.period, lambda name, exc: self.say_raised(f"timer '{name}'", exc)
         )
-        self._init_command_output()
+        self.output = CommandOutput.of_node(self, self.robot, self.safe, self._wire_of_model,
+                                            self.trigger == 'joint_state')
         self.create_subscription(JointState, 'joint_states', self._on_joint_state, STATE_QOS)
         # floating base: the base pose and twist come from odom (nav_msgs/Odometry, twist in
         # child_frame_id)
@@ -282,6 +281,7 @@ class OrcaControllerNode(
             # before the first command, where its pause holds up none; the state it aged is not
             # answered: the next cycle's is fresh
             self._freeze_garbage()
+            self._computed_stamp = None  # unanswered: a repeated state is computed, not repeated
             return
         self.loop_cycles += 1
         wall = time.monotonic()
@@ -308,7 +308,9 @@ class OrcaControllerNode(
                 fresh=False,
             )
             return
-        self._apply_state()
+        # the state the cycle runs on: the measured one, or the reference position and velocity
+        # drives follow (orca_ros.command.JointCommand.state)
+        self._apply_state(*self.output.command.state(self._q, self._v))
         if not self._enabled:
             self._publish_safe(
                 t, 'safe:disabled', 'controller disabled (~/enable false)', level='info'
@@ -337,18 +339,40 @@ class OrcaControllerNode(
             self.contacts_relaxed_cycles += 1
             self.say('warning', 'contacts', 'rigid contacts infeasible: solved with the contacts '
                      'allowed to slip (elastic existence conditions)')
-        cmd = self.controller.get_joint_torque_command()
-        if not np.isfinite(cmd).all():
-            self._publish_safe(t, 'safe:nonfinite', 'non-finite torque command')
+        if not self.output.solved(
+            self._q, self._v, self.controller.get_joint_torque_command(),
+            self.controller.get_joint_acceleration_command(), dt,
+        ):
+            self._publish_safe(t, 'safe:nonfinite', 'non-finite torque or acceleration command')
             return
-        if self._safe_reason is not None:
-            self.say('info', 'recovered', f'recovered from: {self._safe_reason}')
-            self._safe_reason = None
-            self._safe_cause = None
+        reason = self.output.recovered()
+        if reason is not None:
+            self.say('info', 'recovered', f'recovered from: {reason}')
             self._diagnosed = False
-            self.safe.reset()
-        self._publish(np.clip(cmd, -self.safe.limit, self.safe.limit))
         self.latencies.push(time.monotonic() - self._state_wall)
+
+    def _publish_safe(
+        self, t: float, cause: str, reason: str, fresh: bool = True, level: str = 'warning'
+    ) -> None:
+        """Send the hold at the measured state (``fresh`` False: stale, on the wall clock)."""
+        self.output.hold(
+            t if fresh else time.monotonic(), cause, reason, self._q, self._v, fresh, level
+        )
+
+    def shutdown_command(self) -> None:
+        """
+        On SIGINT / SIGTERM / shutdown, while the context is valid.
+
+        Stop the loop and send the hold (gravity at the last state, zero when the drives compensate
+        it), waiting until it is delivered.
+        """
+        self._stopped = True
+        if not self._have_state:
+            return
+        delivered = self.output.shutdown_hold(self._q)
+        self.get_logger().info(
+            'shutdown: hold command sent' + ('' if delivered else ' (delivery not confirmed)')
+        )
 
     def on_callback_error(self, what: str, exc: Exception) -> None:
         """

@@ -115,7 +115,22 @@ SCHEMA: tuple[ParamSpec, ...] = (
         'timer, or one cycle per joint state (lockstep)',
         choices=('timer', 'joint_state'),
     ),
-    ParamSpec('command_topic', 'str', False, 'effort command topic'),
+    ParamSpec('command_topic', 'str', False, 'command topic (std_msgs/Float64MultiArray)'),
+    ParamSpec(
+        'command_interface',
+        'str',
+        False,
+        'what the drives take: efforts, positions, velocities, both, or joint impedance '
+        '(docs/command_interfaces.md)',
+        choices=('effort', 'position', 'velocity', 'position_velocity', 'joint_impedance'),
+    ),
+    ParamSpec('joint_stiffness', _FS, False, 'joint_impedance: K_p per joint (or one) [Nm/rad]',
+              0.0, 1e6),
+    ParamSpec('joint_damping', _FS, False, 'joint_impedance: K_d per joint (or one) [Nm s/rad]',
+              0.0, 1e5),
+    ParamSpec('reference_position_leash', _F, False, 'position, velocity, impedance: the '
+              'reference is kept this close to the measured positions [rad]', 1e-6, 10.0),
+    ParamSpec('reference_velocity_leash', _F, False, '... and velocities [rad/s]', 1e-6, 100.0),
     ParamSpec('gravity_compensated_by_hardware', _B, False, 'drives add gravity themselves'),
     ParamSpec('statistics_window', 'int', False, 'cycles kept for loop statistics', 1, 10_000_000),
     ParamSpec('diagnostics_rate', _F, False, 'diagnostics [Hz], 0 = off', 0.0, 1000.0),

@@ -58,6 +58,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray, String
 from std_srvs.srv import Trigger
 
+from .bridge_commands import BridgeCommands
 from .common import (
     answered_ns,
     COMMAND_QOS,
@@ -162,10 +163,6 @@ class SimBridge(GuardedNode):
             self.model.set_model_configuration(self.held, self.held_positions)
             self.model.set_joint_position_servo(self.held, self.held_positions)
         self._state_map = self.model.joint_map(joints + self.held)
-        self._order = self._cmd_map.sim_index
-        self.effort_limit = np.array(
-            [e if e > 0 else np.inf for e in self.model.get_joint_effort_limits()[self._order]]
-        )
         # the hardware's own model (Pinocchio, same URDF): emulated gravity compensation and the
         # watchdog's hold
         self.robot_model = RobotModel()
@@ -191,7 +188,11 @@ class SimBridge(GuardedNode):
             self.base_hold = self.server.hold_base(self.model)
         # start_paused: nothing moves until ~/unpause (e.g. once a recorder is listening)
         self.paused = bool(param(self, 'start_paused', False))
-        self._cmd = np.zeros(len(joints))
+        self.commands = BridgeCommands(
+            self.say, self.model, joints, self._cmd_map, self.robot_model, self._model_map,
+            self._model_state, str(param(self, 'command_interface', 'effort')),
+            float(param(self, 'servo_frequency', 20.0)), self.watchdog, self.hw_gravity,
+        )
         self._last_cmd_time = None
         self._state_ns = 0  # the stamp of the state last published [ns]
         self.stale_answers = 0  # lockstep: commands dropped, answers to an instant already stepped
@@ -237,29 +238,11 @@ class SimBridge(GuardedNode):
         if self.mode == 'lockstep' and self._answers_an_older_state(msg):
             self.stale_answers += 1
             return
-        cmd = np.asarray(msg.data, dtype=float)
-        if cmd.size != len(self.joints) or not np.all(np.isfinite(cmd)):
-            if cmd.size != len(self.joints):
-                self.say(
-                    'error',
-                    'command:size',
-                    f'rejected effort command ({cmd.size} values for '
-                    f'{len(self.joints)} joints); keeping the last valid command',
-                )
-            else:
-                self.say(
-                    'error',
-                    'command:nan',
-                    'rejected effort command (non-finite values); keeping the last valid command',
-                )
+        if not self.commands.take(msg, self.server.get_time()):
             if self.mode == 'lockstep':
                 self._advance()  # the controller waits for a state: keep the loop alive
             return
-        np.clip(cmd, -self.effort_limit, self.effort_limit, out=cmd)
-        self._cmd = cmd
         self._last_cmd_time = self.get_clock().now()
-        if self.watchdog is not None and self.watchdog.on_command(self.server.get_time(), cmd):
-            self.say('info', 'watchdog:resume', 'effort commands resumed: hold released')
         if self.base_hold is not None:  # the first command: the base given way to it
             t = self.server.get_time()
             self.base_hold.release(t, self.base_release)
@@ -286,8 +269,8 @@ class SimBridge(GuardedNode):
         if self.stop_time > 0 and self.server.get_time() >= self.stop_time - 1e-9:
             self.paused = True
         if not self.paused:
-            self.model.set_joint_torque_command(self._watched_command(), self._cmd_map)
-            for _ in range(self.steps_per_tick):
+            for k in range(self.steps_per_tick):
+                self.commands.before_step(self.server.get_time(), k == 0)
                 if self.hw_gravity:
                     self._update_gravity()
                 self.server.step()
@@ -303,31 +286,6 @@ class SimBridge(GuardedNode):
             # repeated state, ping-pong)
             return
         self._publish_state()
-
-    def _watched_command(self) -> np.ndarray:
-        """
-        Return the last command.
-
-        Or the hold once no command came for ``command_timeout`` (simulated) seconds.
-        """
-        wd = self.watchdog
-        if wd is None:
-            return self._cmd
-        t = self.server.get_time()
-        if not wd.expired(t):
-            return self._cmd
-        if not wd.holding:
-            silence = wd.silence(t)
-            self.say(
-                'warning',
-                'watchdog:hold',
-                'no effort command yet: holding (gravity + damping)'
-                if silence is None
-                else f'no effort command for {silence * 1e3:.0f} ms (command_timeout '
-                f'{self.command_timeout * 1e3:.0f} ms): holding (gravity + damping)',
-            )
-        q, v = self._model_state()
-        return wd.hold(t, q, v)
 
     def _model_state(self):
         """Copy the simulated state into the Pinocchio model; model-order q, v."""
@@ -386,10 +344,10 @@ class SimBridge(GuardedNode):
 
     # -------------------------------------------------------------- services
     def _on_reset(self, req, res):
-        self._cmd[:] = 0.0
         self.model.set_model_configuration(self.joints, self.initial)
         if self.held:
             self.model.set_model_configuration(self.held, self.held_positions)
+        self.commands.reset()
         self._publish_state()
         res.success, res.message = True, 'joints reset to initial_positions, command zeroed'
         return res

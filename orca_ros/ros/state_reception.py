@@ -60,15 +60,20 @@ class StateReception:
             # a repeated state: the simulator re-announces itself when no command reached it (e.g.
             # sent before discovery matched it). Computing again would add a step; the command of
             # that instant is sent again
-            if stamp == self._computed_stamp and not self._stopped:
-                self.pub_cmd.publish(self._cmd_msg)
+            if self._stopped:
+                return
+            if stamp == self._computed_stamp:
+                self.output.repeat()
+            elif stamp == self._state_stamp:  # not answered yet (the cycle that froze the
+                # collector sends nothing): answered now
+                self._on_new_state()
             return
         self._q[:] = self._q_in
         self._v[:] = self._v_in
         self._locked_q[:] = self._input.locked_positions
         self._state_wall = time.monotonic()
         self._state_stamp = stamp
-        self._state_ns = stamp_ns(msg.header.stamp)
+        self.output.answered = stamp_ns(msg.header.stamp)
         self._on_new_state()
 
     def _on_odom(self, msg: Odometry) -> None:
@@ -131,15 +136,16 @@ class StateReception:
             return False
         return not self.floating or self._odom_stamp is not None
 
-    def _apply_state(self) -> None:
+    def _apply_state(self, q=None, v=None) -> None:
+        """Set the measured state on the model; (q, v): other joint states (a control cycle's)."""
+        q = self._q if q is None else q
+        v = self._v if v is None else v
         if self._locked:
             self.robot.set_locked_joint_positions(self._locked_q)  # re-welds when they moved
         if self.floating:
-            self.robot.set_robot_state(
-                self._base_T, self._q, self._base_twist, self._v, self._gravity
-            )
+            self.robot.set_robot_state(self._base_T, q, self._base_twist, v, self._gravity)
         else:
-            self.robot.set_robot_state(self._q, self._v)
+            self.robot.set_robot_state(q, v)
 
     def _on_new_state(self) -> None:
         if not self._state_ready():
