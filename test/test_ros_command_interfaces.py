@@ -21,13 +21,32 @@ Lockstep, a configured target 29 cm from the hand.
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.ros.launch_free import free_domain_id, Procs
+from orca_ros.ros.launch_free import ARM_Q0, free_domain_id, Procs
 from orca_ros.ros.probe import Probe
 import pytest
 
 TARGET = [-0.45, -0.2, 0.45]
 RPY = [3.14159, -0.84159, 3.14159]
-GAINS = ('-p', 'joint_stiffness:=[300.0]', '-p', 'joint_damping:=[10.0]')
+
+
+def _impedance_gains(frequency: float = 10.0):
+    """
+    Return the joint impedance's gains as node arguments: each joint critically damped at f Hz.
+
+    On its inertia with the other joints free at the start posture, m_i = 1 / (M^-1)_ii (one
+    gain for all, 300 Nm/rad and 10 Nm s/rad, made the lwr's last joint, 2.3e-4 kg m^2, unstable
+    in a 1 ms simulation step: K_d dt / m = 43).
+    """
+    robot = orca.RobotModel()
+    robot.load_model_from_file(orca.default_urdf_path())
+    robot.set_robot_state(np.array(ARM_Q0, dtype=float), np.zeros(7))
+    m = 1.0 / np.diag(np.linalg.inv(robot.get_mass_matrix()))
+    w = 2 * np.pi * frequency
+    return ('-p', f'joint_stiffness:={(m * w * w).tolist()}',
+            '-p', f'joint_damping:={(2 * m * w).tolist()}')
+
+
+GAINS = _impedance_gains()
 
 
 def _reach(tmp_path, interface: str, simulator: str = 'pybullet', duration: float = 3.0):
@@ -95,7 +114,8 @@ def test_a_bad_interface_or_gain_is_one_line_and_exit_1(tmp_path, case):
                            'joint_damping:=[1.0]'), 'joint_stiffness must be finite and >= 0'),
         'gain_sizes': (('command_interface:=joint_impedance', 'joint_stiffness:=[1.0, 2.0]',
                         'joint_damping:=[1.0]'), 'joint_stiffness: 2 values for 7 joints'),
-        'bridge_unknown': (('command_interface:=mit',), "command_interface 'mit' is not one of"),
+        'bridge_unknown': (('command_interface:=mit',),
+                           "command_interface 'mit' is not one of"),
     }[case]
     ros_args = [a for arg in args for a in ('-p', arg)]
     if case.startswith('bridge'):
@@ -108,4 +128,66 @@ def test_a_bad_interface_or_gain_is_one_line_and_exit_1(tmp_path, case):
         assert said in log, log
         assert 'Traceback' not in log, log
     finally:
+        procs.stop()
+
+
+@pytest.mark.parametrize('interface', ['position', 'velocity', 'joint_impedance'])
+def test_disabled_the_drives_stop_and_hold_then_resume(tmp_path, interface):
+    """
+    Disabled mid-motion, the interface's hold stops the arm and keeps it; enabled, it resumes.
+
+    Position: the reference stopped where it was; velocity: zero; joint impedance: the stopped
+    reference with the gains and the effort hold. Lockstep, disabled at 0.8 s while the arm moves
+    towards its target (the bridge's stop_time, then ~/unpause).
+    Enabled again, the controller resumes from where the arm is (its targets reset there): no
+    jump, then a new target 5 cm away reached.
+    """
+    from std_srvs.srv import SetBool, Trigger
+
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    both = ('-p', f'command_interface:={interface}')
+    procs.start_arm(
+        'lockstep',
+        controller_args=('-p', f'tasks.ee.target_position:={TARGET}',
+                         '-p', f'tasks.ee.target_rpy:={RPY}', *both,
+                         *(GAINS if interface == 'joint_impedance' else ())),
+        bridge_args=('-p', 'stop_time:=0.8', *both),
+    )
+    probe = Probe(domain)
+    enable = '/orca_controller/enable'
+    try:
+        # the bridge stops at 0.8 s (stop_time), the arm half-way and moving; told, it resumes
+        probe.wait_for(lambda: probe.sim_time() >= 0.8 - 1e-9, 120, 'the stop at 0.8 s')
+        t_off = probe.sim_time()
+        assert probe.call(SetBool, enable, SetBool.Request(data=False)).success
+        assert probe.call(Trigger, '/pybullet_bridge/unpause', Trigger.Request()).success
+        probe.wait_for(lambda: 'disabled' in probe.diagnostics.get('_message', ''), 60,
+                       'diagnostics reporting the hold')
+        probe.wait_sim(1.0, 120)
+        _, q_held, v_held = probe.last_state()
+        probe.wait_sim(0.5, 120)
+        _, q_end, v_end = probe.last_state()
+        drift = np.abs(q_end - q_held).max()
+        with probe.lock:  # (the probe's best-effort copy may miss states on a busy machine)
+            moving = max(np.abs(v).max() for t, _, v in probe.states if t_off - 0.2 <= t <= t_off)
+        print(f'{interface}: moving at {moving:.3f} rad/s when disabled; 1 s on, at '
+              f'{np.abs(v_held).max():.2e} rad/s, then {drift:.2e} rad in 0.5 s')
+        assert moving > 0.05  # it was stopped in motion
+        assert np.abs(v_end).max() < 1e-3 and drift < 1e-3
+        hand = probe.ee_pose(q_end)[:3, 3]
+        assert np.linalg.norm(hand - TARGET) > 0.02  # held short of the target
+        assert probe.call(SetBool, enable, SetBool.Request(data=True)).success
+        probe.wait_for(lambda: probe.diagnostics.get('_message') == 'controlling', 60,
+                       'diagnostics back to controlling')
+        probe.wait_sim(0.5, 120)
+        resumed = np.abs(probe.last_state()[1] - q_end).max()
+        target = probe.send_ee_offset([0.0, 0.0, 0.05])[:3, 3]
+        probe.wait_for(lambda: np.linalg.norm(probe.ee_pose()[:3, 3] - target) < 1e-3, 120,
+                       'the new target reached')
+        print(f'resumed: moved {resumed:.2e} rad in 0.5 s, then reached a target 5 cm away')
+        assert resumed < 1e-3
+        assert 'recovered from: controller disabled' in procs.log('controller')
+    finally:
+        probe.close()
         procs.stop()

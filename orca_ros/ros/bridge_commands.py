@@ -43,7 +43,8 @@ class BridgeCommands:
     """What the bridge's drives apply (see the module)."""
 
     def __init__(self, say, sim_model, joints, cmd_map, robot_model, model_map, model_state,
-                 interface: str, servo_frequency: float, watchdog, hw_gravity: bool):
+                 interface: str, servo_frequency: float, watchdog, hw_gravity: bool,
+                 time_step: float):
         self.say = say
         self.sim_model = sim_model
         self.joints = list(joints)
@@ -68,9 +69,10 @@ class BridgeCommands:
             ndof = robot_model.get_nr_of_degrees_of_freedom()
             # each joint's inertia with the others free (a floating base too): 1 / (M^-1)_ii
             inertia = 1.0 / np.diag(np.linalg.inv(robot_model.get_mass_matrix()))[-ndof:]
-            self.drive = DriveModel(interface, inertia[self._wire_of_model], self.effort_limit,
-                                    servo_frequency)
+            self.inertia = inertia[self._wire_of_model]
+            self.drive = DriveModel(interface, self.inertia, self.effort_limit, servo_frequency)
             self.drive.set_command(self._at_rest())
+        self.time_step = float(time_step)
         self.holding = False  # the drives' hold (interfaces other than effort)
         self.timeout = watchdog.timeout if watchdog is not None else None
 
@@ -104,12 +106,30 @@ class BridgeCommands:
             return False
         if self.drive is None:
             self.effort = np.clip(values[0], -self.effort_limit, self.effort_limit)
+        elif self.interface == 'joint_impedance':
+            self._tell_stiff(values[3], values[4])
         if self.watchdog is not None and self.watchdog.on_command(t, self.effort):
             self.say('info', 'watchdog:resume', 'effort commands resumed: hold released')
         if self.holding:
             self.holding = False
             self.say('info', 'watchdog:resume', f'{self.interface} commands resumed')
         return True
+
+    def _tell_stiff(self, stiffness, damping) -> None:
+        """
+        Say which joints' gains the simulation step cannot integrate stably (throttled).
+
+        A drive's damping K_d on a joint of inertia m, integrated explicitly over a step dt, is
+        stable up to K_d dt / m = 2, its stiffness up to K_p dt^2 / m = 4 (less together); a
+        real drive's rotor inertia (absent from most URDFs) makes light joints far heavier.
+        """
+        dt, m = self.time_step, self.inertia
+        stiff = (damping * dt / m > 1.0) | (stiffness * dt * dt / m > 1.0)
+        if stiff.any():
+            names = [j for j, s in zip(self.joints, stiff) if s]
+            self.say('warning', 'command:stiff', f'joint_impedance gains of {names} beyond what '
+                     f'a {dt * 1e3:.2g} ms simulation step integrates stably (K_d dt / m > 1 or '
+                     'K_p dt^2 / m > 1, m the joint inertia): the simulated drive may oscillate')
 
     def reset(self) -> None:
         """Zero the effort, the drives holding the robot where it is (put back at its start)."""

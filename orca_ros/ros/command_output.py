@@ -62,8 +62,8 @@ class CommandOutput:
         command = JointCommand(
             str(param(node, 'command_interface', 'effort')),
             robot,
-            param(node, 'joint_stiffness', None),
-            param(node, 'joint_damping', None),
+            param(node, 'joint_stiffness', []) or None,
+            param(node, 'joint_damping', []) or None,
             float(param(node, 'reference_position_leash', 0.05)),
             float(param(node, 'reference_velocity_leash', 0.5)),
         )

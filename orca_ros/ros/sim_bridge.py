@@ -192,6 +192,7 @@ class SimBridge(GuardedNode):
             self.say, self.model, joints, self._cmd_map, self.robot_model, self._model_map,
             self._model_state, str(param(self, 'command_interface', 'effort')),
             float(param(self, 'servo_frequency', 20.0)), self.watchdog, self.hw_gravity,
+            self.time_step,
         )
         self._last_cmd_time = None
         self._state_ns = 0  # the stamp of the state last published [ns]
@@ -359,6 +360,7 @@ class SimBridge(GuardedNode):
 
     def _on_unpause(self, req, res):
         self.paused = False
+        self.stop_time = 0.0  # an explicit resume runs on past stop_time
         if self.mode == 'lockstep':
             # one step with the last command starts the exchange again
             self._advance()

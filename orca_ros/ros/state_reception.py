@@ -44,6 +44,15 @@ class StateReception:
             self._input.read(msg.name, msg.position, msg.velocity, self._q_in, self._v_in, stamp)
         except StateRejected as exc:
             self.say('error', exc.cause, str(exc))
+            if (self.trigger == 'joint_state' and self._have_state and not self._stopped
+                    and stamp > self._state_stamp):
+                # lockstep: the simulator steps only once the state of a new instant is answered;
+                # the hold answers (without it the loop stopped for good: a joint speeding past
+                # the plausible, its state rejected, no command, the same state announced again).
+                # Others' (unstamped, older) are only told: the simulator does not wait on them
+                self.output.answered = stamp_ns(msg.header.stamp)
+                self._publish_safe(self._now(), 'safe:state', f'joint state rejected ({exc})',
+                                   fresh=False)
             return
         estimating = self._input.estimating
         if estimating != getattr(self, '_estimating', False):  # said once per spell
