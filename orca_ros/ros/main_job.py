@@ -123,6 +123,9 @@ def _start_web_view(procs, port: int):
 def _stay(url) -> None:
     """Keep the nodes running until Ctrl-C (``--stay``): the user drives the arm now."""
     where = f' ({url}: drag the target)' if url else ''
+    # Ctrl-C ends them even when the job was started with SIGINT ignored (inherited from its
+    # parent: Python then installs no handler; a test suite's process had, and the job stayed)
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     print(f'the arm and its controller keep running{where}; Ctrl-C ends them', flush=True)
     try:
         while True:
