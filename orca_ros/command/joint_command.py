@@ -24,8 +24,8 @@ interface sends a part of what follows, one value per joint and field (:data:`IN
   on the reference, not on the measurement (:meth:`JointCommand.state`): (q_r, v_r) for a
   position drive, (q, v_r) for a velocity one (its position is not servoed: the tasks see where
   the robot is). A QP closed on the measured state of a robot that lags its stiff servos keeps
-  accelerating a reference already ahead: the lwr behind 20 Hz position servos swung at 2.6 rad/s
-  around its target; on the reference, it reaches it (mc_rtc's integration, leashed);
+  accelerating a reference already ahead, and the robot swings around its target; on the
+  reference it does not (mc_rtc's integration, leashed);
 * ``joint_impedance``: q_r, v_r, a feed-forward torque tau_ff and the gains K_p, K_d of a drive
   that applies tau_ff + K_p (q_r - q) + K_d (v_r - v) at its own rate ("MIT mode" actuators,
   Franka's joint impedance). tau_ff = tau - K_p (q_r - q) - K_d (v_r - v): at the state the QP

@@ -412,24 +412,11 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         self._bound.upper(room, vel, dt, h, out, one_step=False)
         m = len(rows)
         lb[:m] = -out[:m] - drift  # closing acceleration at most out: d_ddot >= -out
-        safe = None  # the bounds without the braking margin's term, when needed
-        # a bound relaxes at most at A / horizon per second (never past its cap A - drift); the
-        # braking margin's term tightens at that rate at most (what viability and the horizon
-        # ask applies at once): near the limit at a closing speed v its slope in the distance is
-        # A / (h v / 2), 10 m/s^2 per micrometre at 10 um/s, and a pair creeping onto the safety
-        # distance (the ball sliding along the lwr's link 6, 0.2 um per cycle) stepped the
-        # torques up to 9.3 Nm in one cycle
-        relax = self.max_deceleration / h * dt
+        self._cycle_safe = None  # (_rate_limited's, this cycle's)
         for i in range(m):
             k = rows[i][4]
             if when[k] == cycle - 1:
-                if lb[i] > kept[k] + relax:
-                    if safe is None:
-                        safe = -self._bound.upper(room, vel, dt, h, self._out_safe,
-                                                  one_step=False, margin=False)[:m] - drift
-                    lb[i] = max(safe[i], kept[k] + relax)
-                if lb[i] < kept[k] - relax:
-                    lb[i] = min(kept[k] - relax, self.max_deceleration - drift[i])
+                lb[i] = self._rate_limited(i, lb[i], kept[k], room, vel, drift, dt, h, m)
             # never more than the joints can give the pair (see _capacity)
             lb[i] = min(lb[i], float(np.abs(rows[i][2]) @ self.capacity))
             kept[k], when[k] = lb[i], cycle

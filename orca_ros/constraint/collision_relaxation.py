@@ -63,6 +63,27 @@ class RowRelaxation:
             self._kept_version = geom.version
         return self._kept, self._kept_cycle, self._floor, self._cycle
 
+    def _rate_limited(self, i, bound, kept, room, vel, drift, dt, h, m) -> float:
+        """
+        Return row i's bound, its last one ``kept`` (last cycle's) moved at A / h per second.
+
+        It relaxes at that rate at most (never past its cap A - drift), and the braking margin's
+        term tightens it at that rate at most: near the limit at a closing speed v that term's
+        slope in the distance is A / (h v / 2), and a pair creeping onto the safety distance
+        would see it engage in one cycle. What viability and the horizon ask applies at once
+        (the bounds without the margin's term, computed for the m rows when first needed).
+        """
+        relax = self.max_deceleration / h * dt
+        if bound > kept + relax:
+            if self._cycle_safe is None:
+                out = self._bound.upper(room, vel, dt, h, self._out_safe, one_step=False,
+                                        margin=False)
+                self._cycle_safe = -out[:m] - drift
+            bound = max(self._cycle_safe[i], kept + relax)
+        if bound < kept - relax:
+            bound = min(kept - relax, self.max_deceleration - drift[i])
+        return bound
+
     def _leave(self, m: int, dt: float) -> None:
         """
         Write the rows of removed obstacles after the ``m`` rows of this cycle's pairs.

@@ -165,6 +165,13 @@ class Procs:
         with open(os.path.join(self.tmp, f'{name}.log')) as fh:
             return fh.read()
 
+    def assert_refused(self, proc, name: str, said: str, timeout: float = 120.0) -> None:
+        """Assert that ``proc`` (logging as ``name``) exits 1 saying ``said``, no traceback."""
+        assert proc.wait(timeout=timeout) == 1
+        log = self.log(name)
+        assert said in log, log
+        assert 'Traceback' not in log, log
+
     def wait_log(self, name: str, text: str, timeout: float = 30.0) -> None:
         """Wait until ``name``'s log holds ``text`` (a condition, not a duration)."""
         t0 = time.time()

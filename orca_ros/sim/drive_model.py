@@ -25,8 +25,8 @@ effort limit. Per command interface (:data:`orca_ros.command.INTERFACES`):
   inertia m_i, K_p = m_i (2 pi f)^2, K_d = 2 m_i (2 pi f), with the model's gravity torques as
   feed-forward (what such drives' controllers do; a PD alone sags by g / K_p). m_i is the
   caller's: the joint's inertia with the others free, 1 / (M^-1)_ii, keeps the coupled joints'
-  modes within sqrt(n) f (with M_ii a light wrist behind heavy links has modes 4.5 f and above:
-  the lwr's oscillated at 1 kHz);
+  modes within sqrt(n) f (with M_ii, a light wrist behind heavy links gets modes many times f,
+  beyond what a simulation step integrates);
 * ``joint_impedance``: tau_ff + K_p (q_r - q) + K_d (v_r - v), the gains the command carries.
 """
 

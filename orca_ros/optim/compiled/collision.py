@@ -161,7 +161,7 @@ def rows(ws, n, dt, acc0):
             bound = -viable_upper(d - floor, closing, A, dt, max(h, dt), False) - drift
             if ws.kept_cycle[k] == cycle - 1:
                 # the braking margin's term tightens at A / horizon per second at most; what
-                # viability and the horizon ask, at once (CollisionAvoidanceConstraint._write_rows)
+                # viability and the horizon ask, at once (RowRelaxation._rate_limited)
                 if bound > ws.kept[k] + relax:
                     safe = -viable_upper(d - floor, closing, A, dt, max(h, dt), False,
                                          False) - drift
