@@ -174,3 +174,43 @@ def test_drives_clip_to_their_effort_limits_and_refuse_bad_commands():
         drive.set_command([[np.nan, 1.0], [0.0, 0.0], [5.0, 5.0], [1.0, 100.0], [1.0, 1.0]])
     with pytest.raises(ValueError, match="command_interface 'mit' is not one of"):
         DriveModel('mit', [1.0], [1.0])
+
+
+def test_the_arms_position_servos_are_critically_damped_at_every_posture(lwr):
+    """
+    The lwr in PyBullet behind the simulated position servos (the bridge's law, M at each step).
+
+    Every joint answers a step of its reference as x_r (1 - (1 + w t) e^(-w t)), w = 2 pi 20 Hz,
+    independently of the others, at the start posture and stretched upright (where the first
+    joint's inertia with the others free is 11x smaller). Effort limits left out (a 0.05 rad step
+    asks up to 1.6 kNm at the first instant); the bound is the explicit step's, O(w dt) of the
+    step (as the 1-DoF servo's above), plus the motion's Coriolis torques, left out by the law.
+    Independent PDs on each joint's inertia 1 / (M^-1)_ii instead: the first joint 5x slower.
+    """
+    from orca_ros.ros.launch_free import ARM_Q0
+    from orca_ros.sim import SimServer
+
+    w, h = 2 * np.pi * 20.0, 1e-3
+    names = lwr.get_joint_names()
+    step = np.array([0.05, 0.05, -0.05, 0.05, 0.05, -0.05, 0.05])
+    for q0 in (np.array(ARM_Q0, dtype=float), np.zeros(7)):
+        with SimServer(time_step=h) as server:
+            sim = server.insert_model_from_urdf_file(orca.default_urdf_path())
+            sim.set_model_configuration(names, q0)
+            lwr.set_robot_state(q0, np.zeros(7))
+            inertia = 1.0 / np.diag(np.linalg.inv(lwr.get_mass_matrix()))
+            drive = DriveModel('position', inertia, np.zeros(7), servo_frequency=20.0)
+            drive.set_command((q0 + step)[None])
+            worst = 0.0
+            for k in range(300):
+                q, v = sim.get_joint_positions(names), sim.get_joint_velocities(names)
+                ideal = step * (1 - (1 + w * k * h) * np.exp(-w * k * h))
+                worst = max(worst, np.abs(q - q0 - ideal).max())
+                lwr.set_robot_state(q, v)
+                tau = drive.torque(q, v, lwr.get_joint_gravity_torques(),
+                                   mass=lwr.get_mass_matrix())
+                sim.set_joint_torque_command(tau, names)
+                server.step()
+            print(f'from {q0.round(2).tolist()}: {worst:.2e} rad from the ideal servo at worst')
+            assert worst <= 2 * w * h * np.abs(step).max()
+            assert np.abs(q - q0 - step).max() < 1e-6

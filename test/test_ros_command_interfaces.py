@@ -188,3 +188,143 @@ def test_disabled_the_drives_stop_and_hold_then_resume(tmp_path, interface):
     finally:
         probe.close()
         procs.stop()
+
+
+TICK = 0.004  # the free-running bridge's tick and the controller's period [s]
+
+
+@pytest.mark.parametrize('interface', ['position', 'velocity', 'position_velocity',
+                                       'joint_impedance'])
+def test_a_cut_state_line_and_the_shutdown_stop_the_drives(tmp_path, interface):
+    """
+    Stale states and the shutdown: the interface's hold reaches the drives, and they stop the arm.
+
+    Free running, the controller on its timer; it hears the simulator's joint states through the
+    probe, which stops relaying them while the arm moves (a cut sensor line: the simulator and
+    its drives go on). Past ``state_timeout`` the controller sends its hold, named in the log;
+    the simulated arm stops and stays. The states back, it recovers and reaches its target. Then
+    SIGTERM while it moves to another: the hold delivered on the way out, the arm stops again.
+    Stopped: at rest (< 1e-3 rad/s) within 1 s of simulated time (3 s in joint impedance, see
+    below), then still (< 1e-3 rad in 0.5 s). Time is counted in the bridge's states (one per
+    tick of 4 steps of 1 ms), never on the wall clock. Both at 250 Hz: a free-running simulation
+    that falls behind the wall clock (a loaded machine) runs its drives slower than the
+    controller integrates their references.
+    """
+    import signal
+
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    both = ('-p', f'command_interface:={interface}')
+    relayed = '/probe/joint_states'
+    procs.start_arm(
+        'free_running',
+        controller_args=('-p', f'tasks.ee.target_position:={TARGET}',
+                         '-p', f'tasks.ee.target_rpy:={RPY}', '-r', f'joint_states:={relayed}',
+                         *both, *(GAINS if interface == 'joint_impedance' else ()),
+                         '-p', f'update_rate:={1 / TICK}'),
+        bridge_args=(*both, '-p', f'rate:={1 / TICK}'),
+    )
+    probe = Probe(domain, relay_states_to=relayed)
+
+    def count():
+        with probe.lock:
+            return len(probe.states)
+
+    def moving():
+        return np.abs(probe.last_state()[2]).max() > 0.05
+
+    # the servos stop the arm critically damped at 20 Hz; the joint impedance's gains, each
+    # joint's own at 10 Hz, leave the coupled arm a mode at 2.2 Hz damped at 0.22 (a decay time
+    # of 0.32 s: 5% left after 1 s, 1e-4 after 3 s)
+    settle = int(round((3.0 if interface == 'joint_impedance' else 1.0) / TICK))
+
+    def stops(what):
+        """Wait for the arm to settle, then 0.5 s: the speed and the drift over that 0.5 s."""
+        n, end = count(), settle + int(round(0.5 / TICK))
+        probe.wait_for(lambda: count() > n + end, 120, f'the simulation after {what}')
+        with probe.lock:
+            after = probe.states[n:n + end]
+        speed = max(np.abs(s[2]).max() for s in after[settle:])
+        drift = max(np.abs(s[1] - after[settle][1]).max() for s in after[settle:])
+        print(f'{interface}, {what}: {speed:.1e} rad/s after {settle * TICK:g} s, then '
+              f'{drift:.1e} rad in 0.5 s')
+        assert speed < 1e-3 and drift < 1e-3, (what, speed, drift)
+        return after[-1][1]
+
+    try:
+        probe.wait_for(lambda: count() > 50 and moving(), 120, 'the arm moving to its target')
+        probe.relay_states = False  # the controller's state line cut
+        q_cut = probe.last_state()[1]
+        probe.wait_for(lambda: 'safe command: joint_states stale' in procs.log('controller'), 60,
+                       'the stale hold')
+        q_held = stops('the state line cut')
+        assert np.linalg.norm(probe.ee_pose(q_held)[:3, 3] - TARGET) > 0.02  # short of it
+        # the arm stops within the braking distance of the fault (50 ms of state_timeout at the
+        # speed it had, then the servo's stop): well within 0.1 rad
+        assert np.abs(q_held - q_cut).max() < 0.1
+        probe.relay_states = True
+        probe.wait_for(lambda: 'recovered from: joint_states stale' in procs.log('controller'),
+                       60, 'the recovery')
+        probe.wait_for(lambda: np.linalg.norm(probe.ee_pose()[:3, 3] - TARGET) < 1e-3, 120,
+                       'the target reached after the recovery')
+        target = probe.send_ee_offset([0.0, 0.1, 0.0])[:3, 3]
+        probe.wait_for(moving, 60, 'the arm moving to the new target')
+        ctrl = procs.procs[1][0]
+        ctrl.send_signal(signal.SIGTERM)
+        assert ctrl.wait(timeout=30) == 0
+        assert 'shutdown: hold command sent' in procs.log('controller')
+        q_end = stops('the shutdown')
+        assert np.linalg.norm(probe.ee_pose(q_end)[:3, 3] - target) > 0.02
+        with probe.lock:
+            last = probe.commands[-1].reshape(-1, 7)
+        if interface != 'position':  # the hold's velocities: zero
+            assert not last[1 if interface != 'velocity' else 0].any(), last
+        assert 'watchdog' not in procs.log('bridge') or 'hold where' in procs.log('bridge')
+    finally:
+        probe.close()
+        procs.stop()
+
+
+def test_the_simulated_servos_stay_stable_at_every_posture(tmp_path):
+    """
+    The bridge's position servos, tuned to the posture of each step, are stable everywhere.
+
+    The lwr stretched upright from its start posture by position commands along a smooth path
+    (2 s, then held 0.5 s): its first joint's inertia with the others free drops 11x on the way.
+    With the gains of the start posture the joint chattered at its effort limit there
+    (K_d dt / m = 2.8 > 2: 10 rad/s each way, every step); tuned at each step it follows the path
+    and comes to rest. The path's fastest joint moves at 1.9 rad/s: no state may be faster than
+    that plus the servo's lag (at 20 Hz behind a path this smooth: a tenth of it).
+    """
+    from test_ros_nodes import _command_writer, _step
+    from orca_ros.ros.launch_free import ARM_Q0
+
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    procs.start_arm_bridge('lockstep', '-p', 'command_interface:=position',
+                           '-p', 'control_period:=0.01')
+    probe = Probe(domain)
+    pub = _command_writer(probe)
+    q0, q1 = np.array(ARM_Q0, dtype=float), np.zeros(7)
+    duration, period = 2.0, 0.01
+    try:
+        probe.wait_for(lambda: probe.sim_time() >= 0.0, 60, "the simulator's first state")
+        for k in range(1, int(round((duration + 0.5) / period)) + 1):
+            x = min(k * period / duration, 1.0)
+            s = 10 * x**3 - 15 * x**4 + 6 * x**5  # quintic: at rest at both ends
+            _step(probe, pub, q0 + s * (q1 - q0))
+        with probe.lock:
+            states = list(probe.states)
+        log = procs.log('bridge')
+    finally:
+        probe.close()
+        procs.stop()
+    fastest_path = 1.875 * np.abs(q1 - q0).max() / duration  # the quintic's peak speed
+    speed = max(np.abs(v).max() for _, _, v in states)
+    _, q_end, v_end = states[-1]
+    print(f'fastest joint {speed:.2f} rad/s (the path: {fastest_path:.2f}); at the end '
+          f'{np.abs(q_end - q1).max():.1e} rad from the upright pose, {np.abs(v_end).max():.1e} '
+          'rad/s')
+    assert speed < 1.1 * fastest_path
+    assert np.abs(v_end).max() < 1e-3 and np.abs(q_end - q1).max() < 1e-3
+    assert 'rejected' not in log

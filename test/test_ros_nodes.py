@@ -377,3 +377,82 @@ def test_the_bridge_reset_puts_the_joints_back_at_rest(tmp_path, simulator):
     finally:
         probe.close()
         procs.stop()
+
+
+@pytest.mark.parametrize('simulator', ['pybullet', 'mujoco'])
+def test_a_push_on_a_link_moves_the_arm_as_its_dynamics_say(tmp_path, simulator):
+    """
+    ``~/external_force``: the force on the link's origin at every step until a zero one ends it.
+
+    The arm at rest, its gravity compensated by the bridge, no torque: 2 N on link_7 for 10 steps
+    of 1 ms give the joints v = M^-1 J^T f t (Pinocchio at the start: in 10 ms the arm moves
+    a t^2 / 2, under 1e-3 rad, so M and J stay within about 1e-3 of their start, and so does v).
+    Bad pushes are refused with their cause, the push in effect kept; a zero force ends it.
+    """
+    import orca_ros as orca
+    from geometry_msgs.msg import WrenchStamped
+    from orca_ros.ros.launch_free import ARM_Q0
+    import pinocchio as pin
+
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    procs.start_arm_bridge('lockstep', '-p', 'ground_plane:=false',
+                           '-p', 'gravity_compensation:=true', simulator=simulator)
+    probe = Probe(domain)
+    pub = _command_writer(probe)
+    push = probe.node.create_publisher(WrenchStamped, f'/{simulator}_bridge/external_force', 10)
+
+    def wrench(link='link_7', force=(0.0, 0.0, 0.0), torque=(0.0, 0.0, 0.0)):
+        m = WrenchStamped()
+        m.header.frame_id = link
+        m.wrench.force.x, m.wrench.force.y, m.wrench.force.z = map(float, force)
+        m.wrench.torque.x, m.wrench.torque.y, m.wrench.torque.z = map(float, torque)
+        return m
+
+    force = np.array([2.0, 0.0, 0.0])
+    try:
+        probe.wait_for(lambda: probe.sim_time() >= 0.0, 60, "the simulator's first state")
+        said = "external force [2.0, 0.0, 0.0] N on 'link_7' from"
+        probe.publish_until(lambda: push.publish(wrench(force=force)),
+                            lambda: said in procs.log('bridge'), 'the push taken')
+        for _ in range(10):
+            _step(probe, pub, [0.0] * 7)
+        _, q, v = probe.last_state()
+        bad = [
+            (wrench(link='no_such_link', force=force), "no link 'no_such_link'"),
+            (wrench(force=(np.nan, 0.0, 0.0)), 'force not finite'),
+            (wrench(force=(1e5, 0.0, 0.0)), 'above max_external_force'),
+            (wrench(force=force, torque=(0.0, 0.0, 1.0)), 'a torque'),
+        ]
+        for m, cause in bad:
+            probe.publish_until(lambda: push.publish(m), lambda: cause in procs.log('bridge'),
+                                cause)
+        for _ in range(10):  # the push in effect still
+            _step(probe, pub, [0.0] * 7)
+        _, q2, v2 = probe.last_state()
+        probe.publish_until(lambda: push.publish(wrench()),
+                            lambda: "external force on 'link_7' ended" in procs.log('bridge'),
+                            'the push ended')
+        log = procs.log('bridge')
+    finally:
+        probe.close()
+        procs.stop()
+    arm = orca.RobotModel()
+    arm.load_model_from_file(orca.default_urdf_path())
+    q0 = np.array(ARM_Q0, dtype=float)
+    arm.set_robot_state(q0, np.zeros(7))
+    model, data = arm.model, arm.model.createData()
+    pin.computeJointJacobians(model, data, q0)
+    pin.framesForwardKinematics(model, data, q0)
+    jac = pin.getFrameJacobian(model, data, model.getFrameId('link_7'),
+                               pin.LOCAL_WORLD_ALIGNED)[:3]
+    accel = np.linalg.solve(arm.get_mass_matrix(), jac.T @ force)
+    expected = accel * 0.010
+    gap = np.abs(v - expected).max() / np.abs(expected).max()
+    print(f'{simulator}: after 10 ms of 2 N the joints at {np.round(v, 4).tolist()} rad/s, '
+          f'{gap:.1e} of the prediction away; 10 ms more: {np.abs(v2).max() / np.abs(v).max():.2f}'
+          f'x as fast')
+    assert np.abs(q - q0).max() < 1e-3  # the premise: the arm barely moved
+    assert gap < 1e-3
+    assert np.abs(v2 - 2 * expected).max() / np.abs(expected).max() < 1e-2  # pushed on
+    assert log.count('external force [2.0, 0.0, 0.0] N') == 1  # said once, not per message

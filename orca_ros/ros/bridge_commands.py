@@ -18,10 +18,11 @@ A part of :class:`.sim_bridge.SimBridge`. ``command_interface`` [effort] names w
 drives take (:data:`orca_ros.command.INTERFACES`, the wire layouts of :mod:`.command_wire`):
 ``effort``, torques applied as they are (clipped to the effort limits); ``position``,
 ``velocity``, ``position_velocity``, servos critically damped at ``servo_frequency`` [20 Hz]
-with the model's gravity as feed-forward; ``joint_impedance``, the drive law with the gains of
-each command. The drives run at the simulator's own rate: their torque is computed again before
-every simulation step (:class:`orca_ros.sim.drive_model.DriveModel`), several per command when
-``control_period`` spans several steps.
+whatever the posture (on the joints' mass matrix of each step), gravity as feed-forward;
+``joint_impedance``, the drive law with the gains of each command. The drives run at the
+simulator's own rate: their torque is computed again before every simulation step
+(:class:`orca_ros.sim.drive_model.DriveModel`), several per command when ``control_period``
+spans several steps.
 
 Without a command for ``command_timeout`` (free running), the effort drives fade into gravity
 and damping (:class:`orca_ros.safety.CommandWatchdog`); the others hold where their last command
@@ -64,17 +65,21 @@ class BridgeCommands:
         self.effort_limit = np.array([e if e > 0 else np.inf for e in limits])
         self.effort = np.zeros(n)  # the effort interface's last valid command
         self.drive = None
+        self._servos = interface not in ('effort', 'joint_impedance')
         if interface != 'effort':
             self._model_state()
-            ndof = robot_model.get_nr_of_degrees_of_freedom()
-            # each joint's inertia with the others free (a floating base too): 1 / (M^-1)_ii
-            inertia = 1.0 / np.diag(np.linalg.inv(robot_model.get_mass_matrix()))[-ndof:]
-            self.inertia = inertia[self._wire_of_model]
+            self.inertia = self._joint_inertia()
             self.drive = DriveModel(interface, self.inertia, self.effort_limit, servo_frequency)
             self.drive.set_command(self._at_rest())
         self.time_step = float(time_step)
         self.holding = False  # the drives' hold (interfaces other than effort)
         self.timeout = watchdog.timeout if watchdog is not None else None
+
+    def _joint_inertia(self) -> np.ndarray:
+        """Each joint's inertia with the others free (a floating base too), 1 / (M^-1)_ii."""
+        rm = self._robot_model
+        ndof = rm.get_nr_of_degrees_of_freedom()
+        return (1.0 / np.diag(np.linalg.inv(rm.get_mass_matrix()))[-ndof:])[self._wire_of_model]
 
     def _at_rest(self) -> np.ndarray:
         """
@@ -154,11 +159,16 @@ class BridgeCommands:
                      f'{self.timeout * 1e3:.0f} ms): the drives hold the last position')
         q = self.sim_model.get_joint_positions(self.cmd_map)
         v = self.sim_model.get_joint_velocities(self.cmd_map)
-        gravity = 0.0
-        if not self.hw_gravity:  # else the simulated drives add it themselves
+        gravity, mass = 0.0, None
+        if self._servos or not self.hw_gravity:
             self._model_state()
+        if self._servos:  # critically damped at the posture now (see DriveModel)
+            rm, w = self._robot_model, self._wire_of_model
+            ndof = rm.get_nr_of_degrees_of_freedom()
+            mass = rm.get_mass_matrix()[-ndof:, -ndof:][np.ix_(w, w)]
+        if not self.hw_gravity:  # else the simulated drives add it themselves
             gravity = self._robot_model.get_joint_gravity_torques()[self._wire_of_model]
-        tau = self.drive.torque(q, v, gravity, hold=self.holding)
+        tau = self.drive.torque(q, v, gravity, hold=self.holding, mass=mass)
         self.sim_model.set_joint_torque_command(tau, self.cmd_map)
 
     def _watched_effort(self, t: float) -> np.ndarray:

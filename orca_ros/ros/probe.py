@@ -35,7 +35,8 @@ class Probe:
     ARM_JOINTS = [f'joint_{i}' for i in range(7)]
 
     def __init__(
-        self, domain: int, controller_ns: str = '/orca_controller', joints=None, relay_from=None
+        self, domain: int, controller_ns: str = '/orca_controller', joints=None, relay_from=None,
+        relay_states_to=None,
     ):
         from geometry_msgs.msg import PoseStamped
         from orca_ros.ros.common import COMMAND_QOS
@@ -106,6 +107,17 @@ class Probe:
             self.node.create_subscription(
                 Float64MultiArray, relay_from, self._relay, COMMAND_QOS
             )
+        # relay_states_to (a topic): the controller hears the simulator's joint states there
+        # (its joint_states remapped), through the probe, while ``relay_states`` is True: a test
+        # cuts the controller's state line while the simulator and its drives go on
+        self.relay_states = True
+        self.pub_relayed_states = None
+        if relay_states_to:
+            from orca_ros.ros.common import STATE_QOS
+
+            self.pub_relayed_states = self.node.create_publisher(
+                JointState, relay_states_to, STATE_QOS
+            )
         self.executor = SingleThreadedExecutor(context=self.context)
         self.executor.add_node(self.node)
         self._stop = False
@@ -149,6 +161,8 @@ class Probe:
             lst.append(item)
 
     def _on_state(self, m):
+        if self.pub_relayed_states is not None and self.relay_states:
+            self.pub_relayed_states.publish(m)
         stamp = m.header.stamp.sec + m.header.stamp.nanosec * 1e-9
         q = dict(zip(m.name, m.position))
         if any(j not in q for j in self.joints):

@@ -38,7 +38,8 @@ of that instant again, so a controller that was only slow sends it twice. A comm
 the state it answers (its layout's label, see ``common.ANSWERS``: this package's controller does
 in lockstep) steps only the instant it names; one that names none steps on arrival. Services:
 ``~/reset``, ``~/pause``, ``~/unpause`` (std_srvs/Trigger). Obstacles: the controller's
-``~/obstacles`` markers become static bodies (``obstacles_topic``; :mod:`.sim_obstacles`).
+``~/obstacles`` markers become static bodies (``obstacles_topic``; :mod:`.sim_obstacles`). Pushes:
+a force on a link from ``~/external_force`` (geometry_msgs/WrenchStamped; :mod:`.sim_push`).
 
 Watchdog (free running): without a valid command for ``command_timeout`` [0.02 s of simulated time]
 the bridge holds the robot like a drive would (the last command fades over ``hold_ramp`` [0.05 s]
@@ -71,6 +72,7 @@ from .common import (
 from .guarded_node import GuardedNode
 from .odometry import odometry
 from .sim_obstacles import SimObstacles
+from .sim_push import SimPush
 from ..configuration import resolve_urdf_path
 from ..robot import RobotModel
 from ..safety import CommandWatchdog
@@ -210,6 +212,8 @@ class SimBridge(GuardedNode):
         self.create_service(Trigger, '~/reset', self._on_reset)
         # the controller's obstacle markers, as bodies in the simulation
         self.obstacles = SimObstacles(self, self.server, self.model)
+        # pushes on the robot's links (~/external_force)
+        self.push = SimPush(self, self.model, self.server.get_time)
         self.create_service(Trigger, '~/pause', self._on_pause)
         self.create_service(Trigger, '~/unpause', self._on_unpause)
         self._js = JointState()
@@ -272,6 +276,7 @@ class SimBridge(GuardedNode):
         if not self.paused:
             for k in range(self.steps_per_tick):
                 self.commands.before_step(self.server.get_time(), k == 0)
+                self.push.before_step()
                 if self.hw_gravity:
                     self._update_gravity()
                 self.server.step()
@@ -349,6 +354,7 @@ class SimBridge(GuardedNode):
         if self.held:
             self.model.set_model_configuration(self.held, self.held_positions)
         self.commands.reset()
+        self.push.reset()
         self._publish_state()
         res.success, res.message = True, 'joints reset to initial_positions, command zeroed'
         return res

@@ -19,14 +19,19 @@ step from the command last received and the joint's state then (q, v), and clipp
 effort limit. Per command interface (:data:`orca_ros.command.INTERFACES`):
 
 * ``effort``: tau;
-* ``position``: g_i(q) + K_p (q_r - q) - K_d v;  ``velocity``: g_i(q) + K_d (v_r - v);
-  ``position_velocity``: g_i(q) + K_p (q_r - q) + K_d (v_r - v). The servo of a position- or
-  velocity-controlled arm: critically damped at ``servo_frequency`` f [Hz] on each joint's
-  inertia m_i, K_p = m_i (2 pi f)^2, K_d = 2 m_i (2 pi f), with the model's gravity torques as
-  feed-forward (what such drives' controllers do; a PD alone sags by g / K_p). m_i is the
-  caller's: the joint's inertia with the others free, 1 / (M^-1)_ii, keeps the coupled joints'
-  modes within sqrt(n) f (with M_ii, a light wrist behind heavy links gets modes many times f,
-  beyond what a simulation step integrates);
+* ``position``, ``velocity``, ``position_velocity``: the servo of a position- or
+  velocity-controlled arm, every joint tracking its reference as a critically damped second-order
+  system at ``servo_frequency`` f [Hz], w = 2 pi f, whatever the posture and the other joints:
+
+      tau = g(q) + M(q) (w^2 (q_r - q) + 2 w (v_r - v))
+
+  (w^2 term for position drives only, v_r = 0 for position-only ones), M the joints' block of the
+  mass matrix at the step's posture, g the gravity torques as feed-forward (a PD alone sags by
+  g / K_p). An industrial servo behaves so because its motors' reflected inertia, absent from
+  most URDFs, dwarfs the coupling between links; independent PDs on the URDF's inertias instead
+  couple the joints into slow modes (on 1 / (M^-1)_ii, the lwr's first joint answered a step at
+  5 Hz, underdamped, for a 20 Hz servo) or stiff ones (on M_ii: its wrist beyond what a 1 ms step
+  integrates). Without M (:meth:`DriveModel.torque`), each joint's own inertia m_i stands in;
 * ``joint_impedance``: tau_ff + K_p (q_r - q) + K_d (v_r - v), the gains the command carries.
 """
 
@@ -47,7 +52,9 @@ class DriveModel:
         self.n = inertia.size
         if not (np.isfinite(servo_frequency) and servo_frequency > 0.0):
             raise ValueError(f'servo_frequency must be finite and > 0 Hz, got {servo_frequency}')
-        w = 2.0 * np.pi * float(servo_frequency)
+        w = self._w = 2.0 * np.pi * float(servo_frequency)
+        self.inertia = inertia
+        # the servo's gains per joint on its own inertia (joint impedance's hold before a command)
         self.servo_stiffness = inertia * w * w
         self.servo_damping = 2.0 * inertia * w
         lim = np.asarray(effort_limit, dtype=float).reshape(-1)
@@ -73,9 +80,12 @@ class DriveModel:
             raise ValueError('negative stiffness or damping')
         self.command[:] = values
 
-    def torque(self, q, v, gravity, hold: bool = False) -> np.ndarray:
+    def torque(self, q, v, gravity, hold: bool = False, mass=None) -> np.ndarray:
         """
         Return the drives' torque at (q, v), the model's gravity torques ``gravity`` (wire order).
+
+        ``mass``: the joints' mass matrix at q (n x n, wire order), for the servos (see the
+        module; None: each joint's inertia given at construction).
 
         ``hold``: the controller went silent (the bridge's watchdog): a drive keeps its last
         position and stops, velocity reference 0 (a velocity drive stops where it is) and, in
@@ -90,9 +100,11 @@ class DriveModel:
             tau[:] = gravity if hold else c[row['effort']]
             tau += c[row['stiffness']] * (c[row['position']] - q) + c[row['damping']] * (vr - v)
         else:
-            tau[:] = gravity
+            w = self._w
+            acceleration = 2.0 * w * (vr - v)
             if 'position' in row:
-                tau += self.servo_stiffness * (c[row['position']] - q)
-            tau += self.servo_damping * (vr - v)
+                acceleration += w * w * (c[row['position']] - q)
+            tau[:] = gravity
+            tau += self.inertia * acceleration if mass is None else mass @ acceleration
         np.clip(tau, -self.effort_limit, self.effort_limit, out=tau)
         return tau

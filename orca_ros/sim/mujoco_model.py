@@ -303,6 +303,10 @@ class MujocoModel:
             raise ValueError(f"model '{self.name}' has no link '{link_name}'")
         return self._body[link_name]
 
+    def has_link(self, link_name: str) -> bool:
+        """Tell whether the robot has a link (a body) named so."""
+        return link_name in self._body
+
     def get_link_position(self, link_name: str) -> np.ndarray:
         """World position of a link frame's origin (URDF link frame, not its centre of mass)."""
         return self.server.data.xpos[self._link(link_name)].copy()

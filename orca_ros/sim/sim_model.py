@@ -350,6 +350,14 @@ class SimModel(ContactsMixin):
             raise ValueError(f"model '{self.name}' has no link '{link_name}'")
         return self._link_index[link_name]
 
+    def has_link(self, link_name: str) -> bool:
+        """Tell whether the robot has a link named so (its base link included)."""
+        try:
+            self._link(link_name)
+        except ValueError:
+            return False
+        return True
+
     def get_link_position(self, link_name: str) -> np.ndarray:
         """World position of a link frame's origin (URDF link frame, not its centre of mass)."""
         return np.array(
