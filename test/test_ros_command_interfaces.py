@@ -19,6 +19,8 @@ velocity servos, joint impedance with the gains of each command) run at the simu
 Lockstep, a configured target 29 cm from the hand.
 """
 
+import json
+
 import numpy as np
 import orca_ros as orca
 from orca_ros.ros.launch_free import ARM_Q0, free_domain_id, Procs
@@ -49,18 +51,19 @@ def _impedance_gains(frequency: float = 10.0):
 GAINS = _impedance_gains()
 
 
-def _reach(tmp_path, interface: str, simulator: str = 'pybullet', duration: float = 3.0):
+def _reach(tmp_path, interface: str, simulator: str = 'pybullet', duration: float = 3.0,
+           both_args=(), bridge_args=()):
     """Run to ``duration`` s of simulated time; return the final hand position, states, logs."""
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
-    both = ('-p', f'command_interface:={interface}')
+    both = ('-p', f'command_interface:={interface}', *both_args)
     procs.start_arm(
         'lockstep',
         simulator=simulator,
         controller_args=('-p', f'tasks.ee.target_position:={TARGET}',
                          '-p', f'tasks.ee.target_rpy:={RPY}', *both,
                          *(GAINS if interface == 'joint_impedance' else ())),
-        bridge_args=('-p', f'stop_time:={duration}', *both),
+        bridge_args=('-p', f'stop_time:={duration}', *both, *bridge_args),
     )
     probe = Probe(domain)
     try:
@@ -101,8 +104,56 @@ def test_each_interface_reaches_the_target_within_the_joint_limits(tmp_path, int
     assert 'rejected' not in bridge_log, bridge_log[-2000:]
 
 
+@pytest.mark.parametrize('interface', ['position_velocity', 'joint_impedance'])
+def test_joint_state_commands_by_name_reach_the_target(tmp_path, interface):
+    """
+    ``command_message: joint_state``: the commands as sensor_msgs/JointState on /joint_commands.
+
+    Position, velocity and effort by joint name (the bridge reads them so); in joint impedance the
+    gains are the drive's own, configured on the bridge as on the controller. The same reach as
+    with Float64MultiArray: within 1 mm, within the limits.
+    """
+    wire = ('-p', 'command_message:=joint_state', '-p', 'command_topic:=/joint_commands')
+    hand, states, robot, (log, bridge_log) = _reach(
+        tmp_path, interface, both_args=wire,
+        bridge_args=GAINS if interface == 'joint_impedance' else ())
+    error = np.linalg.norm(hand - TARGET)
+    lo, hi = robot.get_joint_position_limits()
+    q = np.array([s[1] for s in states])
+    print(f'{interface} as JointState: {error * 1e3:.3f} mm from the target')
+    assert 'commands on /joint_commands' in bridge_log
+    assert error < 1e-3
+    assert (q >= lo).all() and (q <= hi).all()
+    assert 'safe command' not in log and 'rejected' not in bridge_log, bridge_log[-2000:]
+
+
+def test_a_joint_state_command_is_read_by_name():
+    """The JointState wire: fields by name in any order, the gains left to the drive."""
+    from orca_ros.ros.command_wire import command_wire
+
+    fields = ('position', 'velocity', 'effort', 'stiffness', 'damping')
+    sender = command_wire('joint_state', fields, ['a', 'b'], lockstep=True)
+    msg = sender.message()
+    sender.write(msg, np.arange(10.0).reshape(5, 2), 0.0)
+    sender.set_answered(msg, 1_500_000_001)
+    assert list(msg.name) == ['a', 'b'] and list(msg.effort) == [4.0, 5.0]
+    assert sender.answered(msg) == 1_500_000_001
+    reader = command_wire('joint_state', fields, ['b', 'a'], lockstep=False)
+    values = reader.read(msg)
+    assert values[:3].tolist() == [[1.0, 0.0], [3.0, 2.0], [5.0, 4.0]]
+    assert np.isnan(values[3:]).all()  # not carried
+    msg.name = ['a', 'c']
+    with pytest.raises(ValueError, match=r"no command for joints \['b'\]"):
+        reader.read(msg)
+    msg.name, msg.velocity = ['a', 'b'], [1.0]
+    with pytest.raises(ValueError, match='1 velocity values for 2 names'):
+        reader.read(msg)
+    with pytest.raises(ValueError, match="command_message 'xml' is not one of"):
+        command_wire('xml', fields, ['a'], lockstep=False)
+
+
 @pytest.mark.parametrize('case', ['unknown', 'no_gains', 'negative_gain', 'gain_sizes',
-                                  'bridge_unknown'])
+                                  'bridge_unknown', 'message', 'bridge_message', 'bridge_gains'])
 def test_a_bad_interface_or_gain_is_one_line_and_exit_1(tmp_path, case):
     """Refused at start with the cause named: no traceback, exit code 1."""
     procs = Procs(free_domain_id(), str(tmp_path))
@@ -116,6 +167,10 @@ def test_a_bad_interface_or_gain_is_one_line_and_exit_1(tmp_path, case):
                         'joint_damping:=[1.0]'), 'joint_stiffness: 2 values for 7 joints'),
         'bridge_unknown': (('command_interface:=mit',),
                            "command_interface 'mit' is not one of"),
+        'message': (('command_message:=xml',), "'xml' is not one of"),
+        'bridge_message': (('command_message:=xml',), "command_message 'xml' is not one of"),
+        'bridge_gains': (('command_interface:=joint_impedance', 'command_message:=joint_state'),
+                         'the bridge needs joint_stiffness and joint_damping'),
     }[case]
     ros_args = [a for arg in args for a in ('-p', arg)]
     if case.startswith('bridge'):
@@ -328,3 +383,44 @@ def test_the_simulated_servos_stay_stable_at_every_posture(tmp_path):
     assert speed < 1.1 * fastest_path
     assert np.abs(v_end).max() < 1e-3 and np.abs(q_end - q1).max() < 1e-3
     assert 'rejected' not in log
+
+
+def test_the_joint_impedance_gains_change_live(tmp_path):
+    """
+    ``joint_stiffness`` and ``joint_damping`` are live: checked, then in the next commands.
+
+    A request is all or nothing: a negative gain or a wrong count is refused with its cause and
+    the gains in the commands stay as they were. The arm keeps to its target throughout.
+    """
+    from test_ros_live_parameters import set_params
+
+    domain = free_domain_id()
+    procs = Procs(domain, str(tmp_path))
+    both = ('-p', 'command_interface:=joint_impedance')
+    procs.start_arm('lockstep', controller_args=(*both, *GAINS), bridge_args=both)
+    probe = Probe(domain)
+    stiffness = np.array(json.loads(GAINS[1].split(':=')[1]))
+
+    def sent(row):
+        with probe.lock:
+            return probe.commands[-1].reshape(5, 7)[row].copy() if probe.commands else None
+
+    try:
+        probe.wait_for(lambda: probe.sim_time() > 0.3 and sent(3) is not None, 120,
+                       'the controller driving the arm')
+        assert np.array_equal(sent(3), stiffness)
+        doubled = (2 * stiffness).tolist()
+        res = set_params(probe, joint_stiffness=doubled, joint_damping=[3.0])
+        assert all(r.successful for r in res), [r.reason for r in res]
+        probe.wait_for(lambda: np.array_equal(sent(3), doubled) and (sent(4) == 3.0).all(), 60,
+                       'the commands carrying the new gains')
+        for bad, cause in (([-1.0], 'outside [0, 1e+06]'), ([1.0, 2.0], '2 values for 7')):
+            res = set_params(probe, joint_stiffness=bad)
+            assert not res[0].successful and cause in res[0].reason, res[0].reason
+        probe.wait_sim(0.2)
+        assert np.array_equal(sent(3), doubled)
+        hand = probe.ee_pose()[:3, 3]
+        assert np.linalg.norm(hand - probe.ee_pose(np.array(ARM_Q0))[:3, 3]) < 1e-3
+    finally:
+        probe.close()
+        procs.stop()

@@ -100,6 +100,25 @@ class JointCommand:
         self._holding = False
         self._leashed = False  # state() leashed the reference this cycle
 
+    def checked_gains(self, stiffness=None, damping=None):
+        """
+        Return the joint impedance's gains (K_p, K_d) with the given ones changed, checked.
+
+        Each a scalar or one value per joint, finite and >= 0; None: as it is. ValueError naming
+        the cause (another interface sends no gains; a bad value). Nothing changes:
+        :meth:`set_gains` applies them.
+        """
+        if self.stiffness is None:
+            raise ValueError(f'the command interface is {self.interface}: it sends no gains')
+        n = self.n
+        k = self.stiffness if stiffness is None else joint_gains('joint_stiffness', stiffness, n)
+        d = self.damping if damping is None else joint_gains('joint_damping', damping, n)
+        return k, d
+
+    def set_gains(self, stiffness=None, damping=None) -> None:
+        """Change the joint impedance's gains from the next command on (see checked_gains)."""
+        self.stiffness, self.damping = self.checked_gains(stiffness, damping)
+
     def field(self, name: str) -> np.ndarray:
         """Return one field's values (a view of :attr:`values`); KeyError if it is not sent."""
         return self.values[self._row[name]]

@@ -27,16 +27,18 @@ spans several steps.
 Without a command for ``command_timeout`` (free running), the effort drives fade into gravity
 and damping (:class:`orca_ros.safety.CommandWatchdog`); the others hold where their last command
 put them (velocity reference 0; in joint impedance, gravity as the feed-forward). A command that
-does not fit (its size, its fields, NaN, negative gains) is refused with a throttled line naming
-the cause; the last valid one stays.
+does not fit (its size, its fields, its joints' names, NaN, negative gains) is refused with a
+throttled line naming the cause; the last valid one stays. Commands come as ``command_message``
+says (:mod:`.command_wire`): Float64MultiArray, or JointState by name (in joint impedance the
+drives then apply their own ``joint_stiffness`` and ``joint_damping``).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .command_wire import read_command
-from ..command import check_interface
+from .command_wire import command_wire
+from ..command import check_interface, joint_gains
 from ..sim.drive_model import DriveModel
 
 
@@ -45,13 +47,23 @@ class BridgeCommands:
 
     def __init__(self, say, sim_model, joints, cmd_map, robot_model, model_map, model_state,
                  interface: str, servo_frequency: float, watchdog, hw_gravity: bool,
-                 time_step: float):
+                 time_step: float, message: str = 'float64_multi_array', gains=(None, None)):
         self.say = say
         self.sim_model = sim_model
         self.joints = list(joints)
         self.cmd_map = cmd_map
         self.interface = interface
         self.fields = check_interface(interface)
+        self.wire = command_wire(message, self.fields, self.joints, False)
+        # the gains a JointState command does not carry: the drive's own (joint impedance)
+        self._own_gains = None
+        if message == 'joint_state' and interface == 'joint_impedance':
+            if gains[0] is None or gains[1] is None:
+                raise ValueError('joint_impedance commands as joint_state carry no gains: the '
+                                 'bridge needs joint_stiffness and joint_damping')
+            n = len(self.joints)
+            self._own_gains = (joint_gains('joint_stiffness', gains[0], n),
+                               joint_gains('joint_damping', gains[1], n))
         self.watchdog = watchdog
         self.hw_gravity = hw_gravity
         self._model_state = model_state  # copies the simulated state into robot_model
@@ -99,7 +111,9 @@ class BridgeCommands:
     def take(self, msg, t: float) -> bool:
         """Take a command at simulated time t; False (refused, the cause said) if it is bad."""
         try:
-            values = read_command(msg, self.fields, len(self.joints))
+            values = self.wire.read(msg)
+            if self._own_gains is not None:
+                values[3], values[4] = self._own_gains
             if not np.all(np.isfinite(values)):
                 raise ValueError('non-finite values')
             if self.drive is not None:

@@ -19,15 +19,16 @@ solved cycle's torques and accelerations at the measured state), :meth:`hold` (a
 with a log line naming its cause once per spell), :meth:`repeat` (the last command again, for a
 state announced again in lockstep) and :meth:`shutdown_hold`. What goes out is the interface's
 (:class:`orca_ros.command.JointCommand`: efforts, a position and/or velocity reference, or joint
-impedance) in the wire layout of :mod:`.command_wire`, model order in, ``joints`` order on the
-wire; in lockstep each command names the state it answers.
+impedance) as :mod:`.command_wire` lays it out (``command_message``: Float64MultiArray or
+JointState), model order in, ``joints`` order on the wire; in lockstep each command names the
+state it answers.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .command_wire import command_message, set_answered
+from .command_wire import command_wire
 from .common import COMMAND_WRITER_QOS, param
 from ..command import JointCommand
 
@@ -35,7 +36,8 @@ from ..command import JointCommand
 class CommandOutput:
     """The command publication of the controller node (see the module)."""
 
-    def __init__(self, node, say, command, safe, wire_of_model, topic: str, lockstep: bool):
+    def __init__(self, node, say, command, safe, wire_of_model, topic: str, lockstep: bool,
+                 message: str = 'float64_multi_array', joints=None):
         self.say = say
         self.command = command  # orca_ros.command.JointCommand
         self.safe = safe  # orca_ros.safety.SafeCommand
@@ -47,17 +49,19 @@ class CommandOutput:
         self.last_effort = np.zeros(self.n)  # model order: where a hold's fade starts
         self.answered = 0  # lockstep: the stamp [ns] of the state the next command answers
         self._lockstep = lockstep
-        self.msg = command_message(command.fields, self.n, lockstep)
+        self.wire = command_wire(message, command.fields, joints or [''] * self.n, lockstep)
+        self.msg = self.wire.message()
         self._wire = np.empty((len(command.fields), self.n))
-        self.pub = node.create_publisher(type(self.msg), topic, COMMAND_WRITER_QOS)
+        self._clock = node.get_clock()
+        self.pub = node.create_publisher(self.wire.message_type, topic, COMMAND_WRITER_QOS)
 
     @classmethod
-    def of_node(cls, node, robot, safe, wire_of_model, lockstep: bool):
+    def of_node(cls, node, robot, safe, wire_of_model, lockstep: bool, joints):
         """
         Make the node's command side from its parameters.
 
         ``command_interface``, ``joint_stiffness``, ``joint_damping``, the reference's leashes,
-        ``command_topic``; ValueError naming a bad one.
+        ``command_topic``, ``command_message``; ValueError naming a bad one.
         """
         command = JointCommand(
             str(param(node, 'command_interface', 'effort')),
@@ -68,7 +72,9 @@ class CommandOutput:
             float(param(node, 'reference_velocity_leash', 0.5)),
         )
         topic = str(param(node, 'command_topic', '/effort_controller/commands'))
-        return cls(node, node.say, command, safe, wire_of_model, topic, lockstep)
+        message = str(param(node, 'command_message', 'float64_multi_array'))
+        return cls(node, node.say, command, safe, wire_of_model, topic, lockstep, message,
+                   joints)
 
     def solved(self, q, v, tau, acceleration, dt: float) -> bool:
         """
@@ -125,8 +131,8 @@ class CommandOutput:
     def _send(self, values, effort) -> None:
         self.last_effort[:] = effort
         self._wire[:, self._wire_of_model] = values
-        self.msg.data = self._wire.ravel().tolist()
+        self.wire.write(self.msg, self._wire, self._clock.now().nanoseconds * 1e-9)
         if self._lockstep:
-            set_answered(self.msg, self.answered)
+            self.wire.set_answered(self.msg, self.answered)
         self.pub.publish(self.msg)
         self.sent += 1

@@ -180,7 +180,7 @@ class OrcaControllerNode(
             self.period, lambda name, exc: self.say_raised(f"timer '{name}'", exc)
         )
         self.output = CommandOutput.of_node(self, self.robot, self.safe, self._wire_of_model,
-                                            self.trigger == 'joint_state')
+                                            self.trigger == 'joint_state', setup.joints)
         self.create_subscription(JointState, 'joint_states', self._on_joint_state, STATE_QOS)
         # floating base: the base pose and twist come from odom (nav_msgs/Odometry, twist in
         # child_frame_id)

@@ -15,7 +15,7 @@
 Run-time parameter changes of the controller node (mixed into the node).
 
 Checked against :mod:`.parameter_schema` and applied at once: gains, weights, ramps, activation,
-trajectory limits, timeouts.
+trajectory limits, timeouts, the joint impedance's gains.
 
 A request is all or nothing: every parameter is checked (names, types, ranges, sizes) before any is
 applied; a refusal carries the reason, which ``ros2 param set`` prints, and one log line.
@@ -110,6 +110,10 @@ class LiveParameters:
                 self._velocity_factor = factor
 
             return apply
+        if key in ('joint_stiffness', 'joint_damping'):
+            command = self.output.command
+            gains = command.checked_gains(**{key.split('_')[1]: value})
+            return lambda: command.set_gains(*gains)
         if key in ('solver_time_budget', 'solver_max_iterations'):
             slot = 0 if key == 'solver_time_budget' else 1
 

@@ -115,7 +115,15 @@ SCHEMA: tuple[ParamSpec, ...] = (
         'timer, or one cycle per joint state (lockstep)',
         choices=('timer', 'joint_state'),
     ),
-    ParamSpec('command_topic', 'str', False, 'command topic (std_msgs/Float64MultiArray)'),
+    ParamSpec('command_topic', 'str', False, 'command topic'),
+    ParamSpec(
+        'command_message',
+        'str',
+        False,
+        'the commands as std_msgs/Float64MultiArray, or sensor_msgs/JointState by name '
+        '(docs/command_interfaces.md)',
+        choices=('float64_multi_array', 'joint_state'),
+    ),
     ParamSpec(
         'command_interface',
         'str',
@@ -124,9 +132,9 @@ SCHEMA: tuple[ParamSpec, ...] = (
         '(docs/command_interfaces.md)',
         choices=('effort', 'position', 'velocity', 'position_velocity', 'joint_impedance'),
     ),
-    ParamSpec('joint_stiffness', _FS, False, 'joint_impedance: K_p per joint (or one) [Nm/rad]',
+    ParamSpec('joint_stiffness', _FS, True, 'joint_impedance: K_p per joint (or one) [Nm/rad]',
               0.0, 1e6),
-    ParamSpec('joint_damping', _FS, False, 'joint_impedance: K_d per joint (or one) [Nm s/rad]',
+    ParamSpec('joint_damping', _FS, True, 'joint_impedance: K_d per joint (or one) [Nm s/rad]',
               0.0, 1e5),
     ParamSpec('reference_position_leash', _F, False, 'position, velocity, impedance: the '
               'reference is kept this close to the measured positions [rad]', 1e-6, 10.0),

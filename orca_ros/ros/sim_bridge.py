@@ -23,8 +23,9 @@ Publishes ``joint_states`` (name, position, velocity (none with ``publish_veloci
 a driver that measures positions only), effort), ``odom`` (nav_msgs/Odometry,
 floating base only, twist in the child frame as the message defines; none with
 ``publish_odom_twist: false``: covariance[0] = -1, unknown) and ``/clock`` (simulated
-time); takes effort commands on ``/<controller_name>/commands`` (std_msgs/Float64MultiArray in the
-``joints`` order, reliable QoS, as ros2_control's forward effort controller), so a real robot
+time); takes commands on ``command_topic`` [``/<controller_name>/commands``] (efforts by default:
+std_msgs/Float64MultiArray in the ``joints`` order, reliable QoS, as ros2_control's forward effort
+controller; other interfaces and JointState commands: :mod:`.bridge_commands`), so a real robot
 replaces this node by a parameter change. Joints of the URDF outside ``joints`` (a gripper's) are
 held by the simulator's position motor at ``held_joint_positions``, as their own driver would, and
 published after the commanded ones. The simulator is addressed by joint names throughout (its own
@@ -56,12 +57,11 @@ from nav_msgs.msg import Odometry
 import numpy as np
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState
-from std_msgs.msg import Float64MultiArray, String
+from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
 from .bridge_commands import BridgeCommands
 from .common import (
-    answered_ns,
     COMMAND_QOS,
     DESCRIPTION_QOS,
     param,
@@ -194,7 +194,8 @@ class SimBridge(GuardedNode):
             self.say, self.model, joints, self._cmd_map, self.robot_model, self._model_map,
             self._model_state, str(param(self, 'command_interface', 'effort')),
             float(param(self, 'servo_frequency', 20.0)), self.watchdog, self.hw_gravity,
-            self.time_step,
+            self.time_step, str(param(self, 'command_message', 'float64_multi_array')),
+            (param(self, 'joint_stiffness', []) or None, param(self, 'joint_damping', []) or None),
         )
         self._last_cmd_time = None
         self._state_ns = 0  # the stamp of the state last published [ns]
@@ -206,8 +207,9 @@ class SimBridge(GuardedNode):
             self.create_publisher(Odometry, 'odom', STATE_QOS) if self.floating else None
         )
         self.pub_clock = self.create_publisher(Clock, '/clock', 10) if self.publish_clock else None
+        command_topic = str(param(self, 'command_topic', '')) or f'/{controller_name}/commands'
         self.create_subscription(
-            Float64MultiArray, f'/{controller_name}/commands', self._on_command, COMMAND_QOS
+            self.commands.wire.message_type, command_topic, self._on_command, COMMAND_QOS
         )
         self.create_service(Trigger, '~/reset', self._on_reset)
         # the controller's obstacle markers, as bodies in the simulation
@@ -230,7 +232,7 @@ class SimBridge(GuardedNode):
             f'{self.steps_per_tick} step(s) of '
             f'{self.time_step * 1e3:.2f} ms per '
             f"{'command' if self.mode == 'lockstep' else 'tick'}, commands on "
-            f'/{controller_name}/commands'
+            f'{command_topic}'
             f"{', hardware gravity compensation' if self.hw_gravity else ''}"
             f", model {'robot_description' if description_given else urdf}"
         )
@@ -239,7 +241,7 @@ class SimBridge(GuardedNode):
         self._publish_state()
 
     # -------------------------------------------------------------- commands and stepping
-    def _on_command(self, msg: Float64MultiArray) -> None:
+    def _on_command(self, msg) -> None:
         if self.mode == 'lockstep' and self._answers_an_older_state(msg):
             self.stale_answers += 1
             return
@@ -260,15 +262,16 @@ class SimBridge(GuardedNode):
         if self.mode == 'lockstep':
             self._advance()
 
-    def _answers_an_older_state(self, msg: Float64MultiArray) -> bool:
+    def _answers_an_older_state(self, msg) -> bool:
         """
-        Tell a command that names a state other than the last published one (common.ANSWERS).
+        Tell a command that answers a state older than the last published one.
 
-        The controller answers a state announced again (see the module) with the same command:
-        sent twice, it must step once. Commands that name no state step on arrival.
+        The instant it names (common.ANSWERS, or a JointState's stamp): the controller answers a
+        state announced again (see the module) with the same command; sent twice, it must step
+        once. Commands that name no state, or a later instant (a clock's stamp), step on arrival.
         """
-        answered = answered_ns(msg)
-        return answered is not None and answered != self._state_ns
+        answered = self.commands.wire.answered(msg)
+        return answered is not None and answered < self._state_ns
 
     def _advance(self) -> None:
         if self.stop_time > 0 and self.server.get_time() >= self.stop_time - 1e-9:
