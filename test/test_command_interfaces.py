@@ -214,3 +214,76 @@ def test_the_arms_position_servos_are_critically_damped_at_every_posture(lwr):
             print(f'from {q0.round(2).tolist()}: {worst:.2e} rad from the ideal servo at worst')
             assert worst <= 2 * w * h * np.abs(step).max()
             assert np.abs(q - q0 - step).max() < 1e-6
+
+
+def _lwr_config(**changes):
+    """Return config/lwr_controller.yaml's parameters without the torque limit, changed."""
+    import yaml
+
+    with open(orca.share_path('config', 'lwr_controller.yaml')) as fh:
+        cfg = yaml.safe_load(fh)['orca_controller']['ros__parameters']
+    cfg['constraints']['names'] = ['position_limit', 'velocity_limit']
+    cfg.update(changes)
+    return cfg
+
+
+def _accelerations(cfg, seconds=1.5):
+    """Run the hand 10 cm along x on a perfect position drive: accelerations, torques, error."""
+    from orca_ros.configuration import build_from_config
+    from orca_ros.ros.launch_free import ARM_Q0
+
+    setup = build_from_config(cfg)
+    c, robot = setup.controller, setup.robot
+    c.activate_tasks_and_constraints()
+    q, v = np.array(ARM_Q0, dtype=float), np.zeros(7)
+    robot.set_robot_state(q, v)
+    servo = c.get_task('ee').servo_controller()
+    target = servo.get_current_cartesian_pose().copy()
+    target[:3, 3] += [0.1, 0.0, 0.0]
+    servo.set_desired(target)
+    acc, tau = [], []
+    for k in range(int(round(seconds / DT))):
+        robot.set_robot_state(q, v)
+        assert c.update(k * DT, DT)
+        acc.append(c.get_joint_acceleration_command().copy())
+        tau.append(c.get_joint_torque_command().copy())
+        q, v = q + DT * v + 0.5 * DT * DT * acc[-1], v + DT * acc[-1]
+    robot.set_robot_state(q, v)
+    error = np.linalg.norm(robot.get_frame_pose('link_7')[:3, 3] - target[:3, 3])
+    return np.array(acc), np.array(tau), error
+
+
+def test_the_kinematic_formulation_needs_no_dynamics_model(tmp_path):
+    """
+    ``kinematic: true``: the model's inertias dropped, the same accelerations, no torques.
+
+    The lwr's URDF without a single <inertial> element (nothing known of its dynamics), kinematic:
+    the same joint accelerations, cycle after cycle, as the dynamic formulation on the full model
+    (no torque rows: its tasks are accelerations; the two differ by round-off at most), every
+    torque zero, the target reached. What needs the dynamics is refused, named.
+    """
+    import re
+
+    from orca_ros.configuration import build_from_config, ConfigError
+
+    with open(orca.default_urdf_path()) as fh:
+        text = re.sub(r'<inertial>.*?</inertial>', '', fh.read(), flags=re.S)
+    assert '<inertial>' not in text
+    bare = tmp_path / 'lwr_without_inertias.urdf'
+    bare.write_text(text)
+    acc, tau, error = _accelerations(_lwr_config(urdf_path=str(bare), kinematic=True))
+    full_acc, full_tau, _ = _accelerations(_lwr_config())
+    gap = np.abs(acc - full_acc).max()
+    print(f'kinematic on no inertias: {gap:.1e} rad/s^2 from the dynamic formulation '
+          f'(accelerations up to {np.abs(acc).max():.1f}); hand {error * 1e3:.2e} mm from the '
+          f'target; torques up to {np.abs(tau).max()} (dynamic: {np.abs(full_tau).max():.1f})')
+    assert gap <= 1e-9 * np.abs(full_acc).max()
+    assert not tau.any() and error < 1e-3
+    torque_limit = {'names': ['torque_limit'], 'torque_limit': {'type': 'joint_torque_limit'}}
+    for change, said in (
+        ({'floating_base': True}, 'a fixed base only'),
+        ({'constraints': torque_limit}, "'torque_limit' (joint_torque_limit)"),
+        ({'tasks': {'names': ['com'], 'com': {'type': 'com'}}}, "task 'com' (com) needs"),
+    ):
+        with pytest.raises(ConfigError, match=re.escape(said)):
+            build_from_config(_lwr_config(kinematic=True, **change))

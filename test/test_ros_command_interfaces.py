@@ -52,7 +52,7 @@ GAINS = _impedance_gains()
 
 
 def _reach(tmp_path, interface: str, simulator: str = 'pybullet', duration: float = 3.0,
-           both_args=(), bridge_args=()):
+           both_args=(), bridge_args=(), controller_args=()):
     """Run to ``duration`` s of simulated time; return the final hand position, states, logs."""
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
@@ -62,7 +62,7 @@ def _reach(tmp_path, interface: str, simulator: str = 'pybullet', duration: floa
         simulator=simulator,
         controller_args=('-p', f'tasks.ee.target_position:={TARGET}',
                          '-p', f'tasks.ee.target_rpy:={RPY}', *both,
-                         *(GAINS if interface == 'joint_impedance' else ())),
+                         *(GAINS if interface == 'joint_impedance' else ()), *controller_args),
         bridge_args=('-p', f'stop_time:={duration}', *both, *bridge_args),
     )
     probe = Probe(domain)
@@ -127,6 +127,33 @@ def test_joint_state_commands_by_name_reach_the_target(tmp_path, interface):
     assert 'safe command' not in log and 'rejected' not in bridge_log, bridge_log[-2000:]
 
 
+@pytest.mark.parametrize('interface', ['position', 'velocity'])
+def test_the_kinematic_controller_drives_servos_without_a_dynamics_model(tmp_path, interface):
+    """
+    ``kinematic: true`` on a URDF without any <inertial>: the servos still reach the target.
+
+    The controller knows nothing of the arm's dynamics (its URDF stripped of every inertia, the
+    torque limit left out as it needs them); the bridge simulates the real arm. Within 1 mm and
+    the joint limits, as with the full model.
+    """
+    import re
+
+    with open(orca.default_urdf_path()) as fh:
+        text = re.sub(r'<inertial>.*?</inertial>', '', fh.read(), flags=re.S)
+    bare = tmp_path / 'lwr_without_inertias.urdf'
+    bare.write_text(text)
+    hand, states, robot, (log, bridge_log) = _reach(
+        tmp_path, interface, controller_args=(
+            '-p', 'kinematic:=true', '-p', f'urdf_path:={bare}',
+            '-p', 'constraints.names:=[position_limit, velocity_limit]'))
+    error = np.linalg.norm(hand - TARGET)
+    lo, hi = robot.get_joint_position_limits()
+    q = np.array([s[1] for s in states])
+    print(f'kinematic, {interface}: {error * 1e3:.3f} mm from the target')
+    assert error < 1e-3 and (q >= lo).all() and (q <= hi).all()
+    assert 'safe command' not in log, log[-2000:]
+
+
 def test_a_joint_state_command_is_read_by_name():
     """The JointState wire: fields by name in any order, the gains left to the drive."""
     from orca_ros.ros.command_wire import command_wire
@@ -153,7 +180,8 @@ def test_a_joint_state_command_is_read_by_name():
 
 
 @pytest.mark.parametrize('case', ['unknown', 'no_gains', 'negative_gain', 'gain_sizes',
-                                  'bridge_unknown', 'message', 'bridge_message', 'bridge_gains'])
+                                  'bridge_unknown', 'message', 'bridge_message', 'bridge_gains',
+                                  'kinematic_effort', 'kinematic_torque_limit'])
 def test_a_bad_interface_or_gain_is_one_line_and_exit_1(tmp_path, case):
     """Refused at start with the cause named: no traceback, exit code 1."""
     procs = Procs(free_domain_id(), str(tmp_path))
@@ -171,6 +199,11 @@ def test_a_bad_interface_or_gain_is_one_line_and_exit_1(tmp_path, case):
         'bridge_message': (('command_message:=xml',), "command_message 'xml' is not one of"),
         'bridge_gains': (('command_interface:=joint_impedance', 'command_message:=joint_state'),
                          'the bridge needs joint_stiffness and joint_damping'),
+        'kinematic_effort': (('kinematic:=true', 'constraints.names:=[position_limit]'),
+                             'kinematic: no torques to send as effort'),
+        'kinematic_torque_limit': (('kinematic:=true', 'command_interface:=position'),
+                                   "constraint 'torque_limit' (joint_torque_limit) needs the "
+                                   'dynamics'),
     }[case]
     ros_args = [a for arg in args for a in ('-p', arg)]
     if case.startswith('bridge'):

@@ -25,7 +25,9 @@ the commands on the wire; the others are welded at their measured positions, see
 :class:`orca_ros.robot.joint_locking.LockedJoints`); ``locked_joint_tolerance`` [1e-4];
 ``solver`` [daqp]; ``resolution_strategy`` [one_level_weighted];
 ``gravity_compensated_by_hardware`` [false]; ``compiled`` [true] (the compiled cycle; false: the
-reference path); ``regularisation`` {weight, damping};
+reference path); ``kinematic`` [false] (the model's inertias dropped: joint accelerations only,
+for position or velocity drives; fixed base, no task or constraint that needs the dynamics:
+:data:`NEEDS_DYNAMICS`); ``regularisation`` {weight, damping};
 ``lower_level_damping`` [10] (levels below the first, Controller.set_lower_level_damping);
 ``tasks``:
 {names: [...], <name>: {type, ...}}; ``constraints``: {names: [...], <name>: {type, ...}}.
@@ -94,6 +96,7 @@ class ControllerSetup:
     task_types: dict = field(default_factory=dict)
     initially_active: dict = field(default_factory=dict)
     gravity_compensated_by_hardware: bool = False
+    kinematic: bool = False  # the model's inertias dropped (accelerations only)
 
 
 def resolve_urdf_path(path: str) -> str:
@@ -129,6 +132,10 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         robot.load_model_from_file(resolve_urdf_path(cfg['urdf_path']), floating)
     else:
         raise ConfigError("configuration needs 'robot_description' (URDF text) or 'urdf_path'")
+    kinematic = bool(cfg.get('kinematic', False))
+    if kinematic:
+        _check_kinematic(cfg, floating)
+        robot.set_massless()
     if cfg.get('base_frame'):
         robot.set_base_frame(cfg['base_frame'])
     if cfg.get('gravity') is not None:
@@ -167,6 +174,7 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         joints,
         model_index,
         gravity_compensated_by_hardware=bool(cfg.get('gravity_compensated_by_hardware', False)),
+        kinematic=kinematic,
     )
     controller.remove_gravity_torques_from_solution(setup.gravity_compensated_by_hardware)
 
@@ -223,6 +231,25 @@ def build_from_config(cfg: dict) -> ControllerSetup:
         c.set_ramp_duration(float(cc.get('ramp', 0.0)))
         setup.initially_active[name] = bool(cc.get('active', True))
     return setup
+
+
+#: what the kinematic formulation cannot compute (torques, forces, the mass's motion)
+NEEDS_DYNAMICS = ('joint_torque', 'com', 'momentum', 'joint_torque_limit', 'balance', 'contact',
+                  'bilateral_contact')
+
+
+def _check_kinematic(cfg: dict, floating: bool) -> None:
+    """Refuse what the kinematic formulation cannot do, naming it (ConfigError)."""
+    if floating:
+        raise ConfigError('kinematic: a fixed base only (a floating base stands on contact '
+                          'forces, which need the dynamics)')
+    for group in ('tasks', 'constraints'):
+        entries = cfg.get(group) or {}
+        for name in entries.get('names', []):
+            kind = (entries.get(name) or {}).get('type')
+            if kind in NEEDS_DYNAMICS:
+                raise ConfigError(f"kinematic: {group[:-1]} '{name}' ({kind}) needs the dynamics "
+                                  '(torques, forces or masses): leave it out')
 
 
 def _configure_balance(c: BalanceConstraint, cc: dict, name: str) -> None:

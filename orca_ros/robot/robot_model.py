@@ -67,6 +67,7 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         self.urdf_xml: str | None = None  # the description loaded (collision geometry reads it)
         self.mjcf_path: str | None = None  # the MJCF file loaded, if the robot came from one
         self._locked = None  # joint_locking.LockedJoints while joints are locked
+        self.massless = False  # the kinematic formulation (set_massless)
 
     # ------------------------------------------------------------------ loading
     def load_model_from_file(self, path: str, floating_base: bool = False) -> bool:
@@ -113,6 +114,10 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         return True
 
     def _setup(self, model: pin.Model, floating_base: bool) -> None:
+        if self.massless:
+            model = pin.Model(model)  # the caller's keeps its inertias
+            for i in range(len(model.inertias)):
+                model.inertias[i] = pin.Inertia.Zero()
         self.model = model
         self.data = model.createData()
         # gravity is computed on its own Data: its RNEA pass would overwrite the
@@ -172,6 +177,21 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         self.set_gravity(np.array([0.0, 0.0, -9.81]))
         self._initialized = False
         self._frame_cache.clear()
+
+    def set_massless(self) -> None:
+        """
+        Drop the model's inertias: the kinematic formulation.
+
+        The mass matrix, gravity and Coriolis terms are zero from then on (joint locking keeps
+        them so): a controller on this model computes joint accelerations only, its torques zero.
+        For a robot whose dynamics model is unknown or whose torques cannot be commanded, driven
+        by position or velocity (mc_rtc's kinematic mode, PlaCo's kinematics solver). Rows that
+        need the dynamics (torques, contact forces, the centre of mass) mean nothing here.
+        Call it after loading, before anything else is set (the model is set up again).
+        """
+        self._require_model()
+        self.massless = True
+        self._setup(self.model, self.floating_base)
 
     def _first_body_frame(self) -> str | None:
         for f in self.model.frames:

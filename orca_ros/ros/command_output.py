@@ -63,8 +63,12 @@ class CommandOutput:
         ``command_interface``, ``joint_stiffness``, ``joint_damping``, the reference's leashes,
         ``command_topic``, ``command_message``; ValueError naming a bad one.
         """
+        interface = str(param(node, 'command_interface', 'effort'))
+        if bool(param(node, 'kinematic', False)) and interface in ('effort', 'joint_impedance'):
+            raise ValueError(f'kinematic: no torques to send as {interface}: command_interface '
+                             'must be position, velocity or position_velocity')
         command = JointCommand(
-            str(param(node, 'command_interface', 'effort')),
+            interface,
             robot,
             param(node, 'joint_stiffness', []) or None,
             param(node, 'joint_damping', []) or None,

@@ -84,7 +84,7 @@ class OrcaControllerNode(
                 ('urdf_path', ''), ('robot_description', ''), ('base_frame', ''), ('joints', []),
                 ('solver', 'daqp'), ('resolution_strategy', 'one_level_weighted'),
                 ('floating_base', False), ('gravity_compensated_by_hardware', False),
-                ('compiled', True), ('locked_joint_tolerance', 1e-4),
+                ('compiled', True), ('locked_joint_tolerance', 1e-4), ('kinematic', False),
             )
         }
         if not cfg['urdf_path'] and not cfg['robot_description']:

@@ -140,6 +140,8 @@ SCHEMA: tuple[ParamSpec, ...] = (
               'reference is kept this close to the measured positions [rad]', 1e-6, 10.0),
     ParamSpec('reference_velocity_leash', _F, False, '... and velocities [rad/s]', 1e-6, 100.0),
     ParamSpec('gravity_compensated_by_hardware', _B, False, 'drives add gravity themselves'),
+    ParamSpec('kinematic', _B, False, "the model's inertias dropped: joint accelerations only, "
+              'for position or velocity drives (docs/command_interfaces.md)'),
     ParamSpec('statistics_window', 'int', False, 'cycles kept for loop statistics', 1, 10_000_000),
     ParamSpec('diagnostics_rate', _F, False, 'diagnostics [Hz], 0 = off', 0.0, 1000.0),
     ParamSpec(
