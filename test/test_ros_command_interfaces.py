@@ -63,10 +63,14 @@ def _reach(tmp_path, interface: str, simulator: str = 'pybullet', duration: floa
         controller_args=('-p', f'tasks.ee.target_position:={TARGET}',
                          '-p', f'tasks.ee.target_rpy:={RPY}', *both,
                          *(GAINS if interface == 'joint_impedance' else ()), *controller_args),
-        bridge_args=('-p', f'stop_time:={duration}', *both, *bridge_args),
+        bridge_args=('-p', f'stop_time:={duration}', '-p', 'start_paused:=true', *both,
+                     *bridge_args),
     )
     probe = Probe(domain)
     try:
+        # the probe listening before the first step: it records the run from its start
+        probe.wait_for(lambda: probe.sim_time() >= 0.0, 120, "the simulator's first state")
+        probe.unpause(simulator=simulator)
         probe.wait_for(lambda: probe.sim_time() >= duration - 1e-9, 120, 'the end of the run')
         with probe.lock:
             states = list(probe.states)
@@ -80,23 +84,30 @@ def _reach(tmp_path, interface: str, simulator: str = 'pybullet', duration: floa
     return robot.get_frame_pose('link_7')[:3, 3], states, robot, logs
 
 
-@pytest.mark.parametrize('interface', ['position', 'velocity', 'position_velocity',
-                                       'joint_impedance'])
-def test_each_interface_reaches_the_target_within_the_joint_limits(tmp_path, interface):
+@pytest.mark.parametrize('interface, simulator', [
+    ('position', 'pybullet'), ('velocity', 'pybullet'), ('position_velocity', 'pybullet'),
+    ('joint_impedance', 'pybullet'), ('position', 'mujoco'), ('joint_impedance', 'mujoco'),
+])
+def test_each_interface_reaches_the_target_within_the_joint_limits(tmp_path, interface,
+                                                                   simulator):
     """
     Within 1 mm of the target after 3 s, as with efforts; positions and speeds within the limits.
 
-    Measured on the simulated joints (the bridge's joint_states), every step.
+    Measured on the simulated joints (the bridge's joint_states) from the first step on, every
+    state the probe recorded; on MuJoCo too (its drives the same model: the same code before
+    each of its steps).
     """
-    hand, states, robot, (log, bridge_log) = _reach(tmp_path, interface)
+    hand, states, robot, (log, bridge_log) = _reach(tmp_path, interface, simulator)
     error = np.linalg.norm(hand - TARGET)
     lo, hi = robot.get_joint_position_limits()
     vmax = robot.get_joint_velocity_limits()
     q = np.array([s[1] for s in states])
     v = np.array([s[2] for s in states])
     speed = (np.abs(v) / vmax).max()
-    print(f'{interface}: {error * 1e3:.3f} mm from the target; fastest joint at {speed:.2f} of '
-          f'its limit; least room to a position limit {min((q - lo).min(), (hi - q).min()):.3f}')
+    room = min((q - lo).min(), (hi - q).min())
+    assert states[0][0] <= 1e-3, f'the probe missed the start: first state at {states[0][0]} s'
+    print(f'{interface} ({simulator}): {error * 1e3:.3f} mm from the target; fastest joint at '
+          f'{speed:.2f} of its limit; least room to a position limit {room:.3f}')
     assert error < 1e-3
     assert (q >= lo).all() and (q <= hi).all()
     assert speed <= 1.0

@@ -369,7 +369,8 @@ class SimBridge(GuardedNode):
 
     def _on_unpause(self, req, res):
         self.paused = False
-        self.stop_time = 0.0  # an explicit resume runs on past stop_time
+        if self.stop_time > 0 and self.server.get_time() >= self.stop_time - 1e-9:
+            self.stop_time = 0.0  # resumed at stop_time: it runs on past it
         if self.mode == 'lockstep':
             # one step with the last command starts the exchange again
             self._advance()
