@@ -40,6 +40,9 @@ import pytest
 GAP = 0.001  # the docs place the trunk 1 mm above standing (0.327 m for the shipped 0.3259 m)
 WAIT = 5.0  # s of simulated time before the controller starts
 SETTLE = 3.0  # s of simulated time after its first command
+# s of simulated time more for a controller starved of CPU near SETTLE: the bridge's hold (gravity
+# + damping) lets a standing trunk sink about 1 cm in 0.1 s, which the controller then undoes
+GRACE = 2.0
 # the bridge's record of the command that releases the base: simulated time, where the base was
 RELEASE = re.compile(
     r'first effort command at t = (\S+) s \(simulated\), the base at \[([^\]]*)\] m'
@@ -207,14 +210,15 @@ def released(procs):
 
 
 def start_as_documented(tmp_path, quad, params, hold='true', controller=True,
-                        simulator='pybullet'):
+                        simulator='pybullet', until=None):
     """
     Start the bridge, WAIT s (simulated) later the controller; observe SETTLE s past its start.
 
     The controller's start is its first command (its process takes wall-clock seconds to load),
-    as the bridge recorded it. Returns the observer (closed, its records kept), the controller's
-    and the bridge's logs and the bridge's record of the release (:func:`released`; None without
-    the controller).
+    as the bridge recorded it. ``until`` (a condition on the observer): past SETTLE, observe on
+    until it holds, GRACE s more at most. Returns the observer (closed, its records kept), the
+    controller's and the bridge's logs and the bridge's record of the release (:func:`released`;
+    None without the controller).
     """
     robot = orca.RobotModel()
     robot.load_model_from_file(quad.urdf, floating_base=True)
@@ -235,6 +239,9 @@ def start_as_documented(tmp_path, quad, params, hold='true', controller=True,
         obs.wait_for(lambda: released(procs) is not None, 120, "the controller's first command")
         release = released(procs)
         obs.wait_for(lambda: obs.now >= release[0] + SETTLE, 120, f'{SETTLE} s simulated')
+        if until is not None:
+            obs.wait_for(lambda: until(obs) or obs.now >= release[0] + SETTLE + GRACE, 120,
+                         f'{SETTLE + GRACE} s simulated')
         with obs.lock:
             obs.diagnostics = {}
         obs.wait_for(lambda: obs.diagnostics, 30, 'a diagnostics report')
@@ -282,13 +289,19 @@ def test_a_quadruped_stands_when_started_as_documented(example_robot_urdf, tmp_p
     """
     Held until the controller's first command, then standing at its target, level, in place.
 
-    The trunk is placed GAP above its target: standing at it, not where placed, is within GAP / 2.
-    5 cm and 5 degrees tell a robot that stood up in place from the lurch of issue 37. On MuJoCo
-    too (the shipped quadruped here; Go1 and Solo12 were run when the crane was fixed): its crane
-    is a bounded wrench, its contacts MuJoCo's.
+    The trunk is placed GAP above its target: standing at it, not where placed, is within GAP / 2,
+    SETTLE s after the first command (GRACE s more if the controller was starved of CPU then: the
+    bridge's hold sags the trunk, see GRACE). 5 cm and 5 degrees tell a robot that stood up in
+    place from the lurch of issue 37. On MuJoCo too (the shipped quadruped here; Go1 and Solo12
+    were run when the crane was fixed): its crane is a bounded wrench, its contacts MuJoCo's.
     """
     quad, params = ROBOTS[which](example_robot_urdf, tmp_path)
-    obs, log, (t1, held) = start_as_documented(tmp_path, quad, params, simulator=simulator)
+
+    def standing(obs):
+        return abs(settled(obs)[0][2] - quad.home[2]) < GAP / 2
+
+    obs, log, (t1, held) = start_as_documented(tmp_path, quad, params, simulator=simulator,
+                                               until=standing)
     placed = quad.home + [0.0, 0.0, GAP]
     run = obs.poses(t1)
     pos = np.array([p for _, p, _ in run])
@@ -298,7 +311,8 @@ def test_a_quadruped_stands_when_started_as_documented(example_robot_urdf, tmp_p
     diagnostics = obs.diagnostics
     print(
         f'{which}: at the first command (t = {t1:.2f} s) the trunk '
-        f'{(held[2] - placed[2]) * 1e3:+.3f} mm from where placed; {SETTLE} s later '
+        f'{(held[2] - placed[2]) * 1e3:+.3f} mm from where placed; '
+        f'{obs.poses()[-1][0] - t1:.2f} s later '
         f'{(height - quad.home[2]) * 1e3:+.3f} mm from its target ({quad.home[2] * 1e3:.1f} mm), '
         f'travel {travel * 1e3:.2f} mm, tilt '
         f"{np.degrees(tilt):.2f} deg, failed cycles {diagnostics['qp_failures']}, cycles with "
