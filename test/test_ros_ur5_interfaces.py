@@ -53,6 +53,11 @@ LAG = 2 * 0.25 / (2 * np.pi * 20.0)
 CYCLE_TRAVEL = 0.25e-3  # [m] the hand's travel in one 1 ms cycle at 0.25 m/s
 
 
+def _mm(errors) -> str:
+    """Return distances [m] in mm, comma-separated."""
+    return ', '.join(f'{e * 1e3:.2e}' for e in errors)
+
+
 def _resolved(urdf, tmp_path):
     """Write the URDF with its meshes' package:// URIs as files (for PyBullet); its path."""
     path = tmp_path / 'ur5.urdf'
@@ -141,7 +146,7 @@ def _run(example_robot_urdf, tmp_path, interface, with_ball=False):
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
     both = ('-p', f'command_interface:={interface}', '-p', f'urdf_path:={urdf}',
-            '-p', f'joints:=[{", ".join(JOINTS)}]')
+            '-p', f'joints:={JOINTS}')
     procs.start('orca_ros.ros.pybullet_bridge', '-p', 'mode:=lockstep',
                 '-p', f'initial_positions:={Q0}', *both, name='bridge')
     collision = ()
@@ -207,7 +212,7 @@ def test_the_ur5_reaches_three_targets_within_its_limits(example_robot_urdf, tmp
     """
     arm, _, errors, states, _, log, bridge_log = _run(example_robot_urdf, tmp_path, interface)
     cap, urdf, room = _limits(arm, states)
-    print(f'{interface}: hand {", ".join(f"{e * 1e3:.2e}" for e in errors)} mm from its '
+    print(f'{interface}: hand {_mm(errors)} mm from its '
           f'targets; fastest joint at {cap:.2f} of the cap ({urdf:.2f} of its URDF limit); '
           f'least room to a position limit {room:.3f} rad; {len(states)} states')
     assert (errors < 1e-3).all()
@@ -237,7 +242,7 @@ def test_the_ur5_on_position_servos_keeps_away_from_a_ball(example_robot_urdf, t
     cap, urdf, room = _limits(arm, states)
     end = states[-1][0]
     still = max(np.abs(v).max() for t, _, v in states if t >= end - 0.5)
-    print(f'hand {", ".join(f"{e * 1e3:.2e}" for e in errors)} mm from its targets')
+    print(f'hand {_mm(errors)} mm from its targets')
     print(f'least distance of the meshes to the ball {least * 1e3:.2f} mm (asserted >= '
           f'{(SAFETY + 2 * ROUNDING - LAG) * 1e3:.2f}); the distance the constraint holds, at '
           f'the end {held * 1e3:.3f} mm; last 0.5 s at {still:.1e} rad/s at most')

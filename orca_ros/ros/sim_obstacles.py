@@ -96,7 +96,8 @@ class SimObstacles:
             world.remove(name)
             raise
         self._shapes[name] = (shape, size)
-        log.info(f"obstacle '{name}' in the simulation ({shape} {size})")
+        dims = ', '.join(f'{float(x):.4g}' for x in size)
+        log.info(f"obstacle '{name}' in the simulation ({shape} [{dims}] m)")
 
     def _check_overlap(self, name: str) -> None:
         """Raise ValueError if obstacle ``name`` goes more than OVERLAP into the robot's links."""
