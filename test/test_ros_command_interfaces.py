@@ -172,7 +172,7 @@ def test_a_joint_state_command_is_read_by_name():
     fields = ('position', 'velocity', 'effort', 'stiffness', 'damping')
     sender = command_wire('joint_state', fields, ['a', 'b'], lockstep=True)
     msg = sender.message()
-    sender.write(msg, np.arange(10.0).reshape(5, 2), 0.0)
+    sender.write(msg, np.arange(10.0).reshape(5, 2), None)  # lockstep: no clock read
     sender.set_answered(msg, 1_500_000_001)
     assert list(msg.name) == ['a', 'b'] and list(msg.effort) == [4.0, 5.0]
     assert sender.answered(msg) == 1_500_000_001

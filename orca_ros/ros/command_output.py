@@ -135,7 +135,7 @@ class CommandOutput:
     def _send(self, values, effort) -> None:
         self.last_effort[:] = effort
         self._wire[:, self._wire_of_model] = values
-        self.wire.write(self.msg, self._wire, self._clock.now().nanoseconds * 1e-9)
+        self.wire.write(self.msg, self._wire, self._clock)
         if self._lockstep:
             self.wire.set_answered(self.msg, self.answered)
         self.pub.publish(self.msg)

@@ -38,7 +38,7 @@ import numpy as np
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64MultiArray, MultiArrayDimension
 
-from .common import answered_ns, ANSWERS, sec_to_stamp, stamp_ns
+from .common import answered_ns, ANSWERS, stamp_ns
 
 #: the message types a command may go as
 MESSAGES = ('float64_multi_array', 'joint_state')
@@ -75,8 +75,8 @@ class ArrayWire:
             msg.layout.dim = [joints]
         return msg
 
-    def write(self, msg, values, now: float) -> None:
-        """Put ``values`` (fields x n, wire order) in ``msg``."""
+    def write(self, msg, values, clock) -> None:
+        """Put ``values`` (fields x n, wire order) in ``msg`` (``clock``: unused here)."""
         msg.data = np.asarray(values, dtype=float).ravel().tolist()
 
     def set_answered(self, msg, answered_ns_: int) -> None:
@@ -119,12 +119,12 @@ class JointStateWire:
         msg.name = list(self.joints)
         return msg
 
-    def write(self, msg, values, now: float) -> None:
-        """Put ``values`` (fields x n, wire order) in ``msg``; stamped ``now`` outside lockstep."""
+    def write(self, msg, values, clock) -> None:
+        """Put ``values`` (fields x n, wire order) in ``msg``; ``clock`` stamps free running."""
         for f in self.carried:
             setattr(msg, f, np.asarray(values[self._row[f]], dtype=float).tolist())
         if not self._lockstep:
-            sec_to_stamp(now, msg.header.stamp)
+            msg.header.stamp = clock.now().to_msg()
 
     def set_answered(self, msg, answered_ns_: int) -> None:
         """Stamp a lockstep command with the state it answers."""

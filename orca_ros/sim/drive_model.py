@@ -29,9 +29,9 @@ effort limit. Per command interface (:data:`orca_ros.command.INTERFACES`):
   mass matrix at the step's posture, g the gravity torques as feed-forward (a PD alone sags by
   g / K_p). An industrial servo behaves so because its motors' reflected inertia, absent from
   most URDFs, dwarfs the coupling between links; independent PDs on the URDF's inertias instead
-  couple the joints into slow modes (on 1 / (M^-1)_ii, the lwr's first joint answered a step at
-  5 Hz, underdamped, for a 20 Hz servo) or stiff ones (on M_ii: its wrist beyond what a 1 ms step
-  integrates). Without M (:meth:`DriveModel.torque`), each joint's own inertia m_i stands in;
+  couple the joints into slow, underdamped modes (on 1 / (M^-1)_ii) or stiff ones (on M_ii, beyond
+  what an explicit simulation step integrates). Without M (:meth:`DriveModel.torque`), each
+  joint's own inertia m_i stands in;
 * ``joint_impedance``: tau_ff + K_p (q_r - q) + K_d (v_r - v), the gains the command carries.
 """
 
