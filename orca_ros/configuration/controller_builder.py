@@ -67,6 +67,7 @@ from ..math.rotations import make_transform, rotation_from_rpy
 from ..optim import Controller, QPSolver, ResolutionStrategy
 from ..paths import share_path
 from ..robot import RobotModel
+from ..robot.mjcf import MENAGERIE, menagerie_path
 from ..task import CartesianTask, CoMTask, JointAccelerationTask, JointTorqueTask, MomentumTask
 
 TASK_TYPES = {
@@ -100,7 +101,16 @@ class ControllerSetup:
 
 
 def resolve_urdf_path(path: str) -> str:
-    """Return the robot model file ``path`` (URDF or MJCF): as given, or shipped (urdf/, mjcf/)."""
+    """
+    Return the robot model file ``path`` (URDF or MJCF): as given, or shipped (urdf/, mjcf/).
+
+    ``menagerie:<name>``: the MuJoCo Menagerie's robot of that name (:func:`.mjcf.menagerie_path`).
+    """
+    if path.startswith(MENAGERIE):
+        try:
+            return menagerie_path(path[len(MENAGERIE):])
+        except ValueError as exc:
+            raise ConfigError(str(exc)) from None
     if os.path.isabs(path) or os.path.exists(path):
         return path
     for folder in ('urdf', 'mjcf'):

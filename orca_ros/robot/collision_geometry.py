@@ -15,8 +15,10 @@
 The robot's collision geometry and the obstacles around it, and their distances (Pinocchio, coal).
 
 The geometry is the URDF's ``<collision>`` elements (``package://`` resolved as the simulator does,
-:mod:`.urdf_text`), meshes replaced by their convex hulls (coal's GJK on convex shapes: 21 us for
-the Panda's 44 pairs against its meshes' BVHs, far slower). Pairs watched: every two geometries of
+:mod:`.urdf_text`), or an MJCF robot's collision geoms (Pinocchio's parser; the file's
+``<contact><exclude>`` body pairs left out as an SRDF's disabled pairs are), meshes replaced by
+their convex hulls (coal's GJK on convex shapes: 21 us for the Panda's 44 pairs against its
+meshes' BVHs, far slower). Pairs watched: every two geometries of
 different bodies, minus adjacent bodies (a joint between them) and the pairs an SRDF disables
 (``disable_collisions``, example-robot-data ships them); plus every obstacle against every robot
 geometry. Obstacles are primitives (sphere, box, cylinder, capsule) fixed in the world or to a
@@ -40,6 +42,7 @@ import numpy as np
 import pinocchio as pin
 
 from . import collision_pairs
+from .mjcf import mjcf_excluded_pairs
 from .urdf_text import resolve_package_uris
 
 SHAPES = {'sphere': 1, 'box': 3, 'cylinder': 2, 'capsule': 2}  # and how many sizes each takes
@@ -150,10 +153,15 @@ class CollisionGeometry:
         """
         self.rounding = float(rounding)
         model = robot.model
-        if robot.urdf_xml is None:
-            raise ValueError('the robot has no URDF description loaded')
-        text = resolve_package_uris(robot.urdf_xml, robot.urdf_path or '', package_dirs)
-        gm = pin.buildGeomFromUrdfString(model, text, pin.COLLISION)
+        excluded = set()
+        if robot.mjcf_path is not None:  # its collision geoms; its <exclude> pairs left out
+            gm = pin.buildGeomFromMJCF(model, robot.mjcf_path, pin.COLLISION)
+            excluded = mjcf_excluded_pairs(robot.mjcf_path)
+        elif robot.urdf_xml is not None:
+            text = resolve_package_uris(robot.urdf_xml, robot.urdf_path or '', package_dirs)
+            gm = pin.buildGeomFromUrdfString(model, text, pin.COLLISION)
+        else:
+            raise ValueError('the robot has no URDF or MJCF description loaded')
         for g in gm.geometryObjects:
             if hasattr(g.geometry, 'buildConvexHull'):  # a mesh: its convex hull
                 g.geometry.buildConvexHull(True, 'Qt')
@@ -172,6 +180,7 @@ class CollisionGeometry:
         links = {frozenset(collision_pairs.link_pair(model, gm, p)) for p in gm.collisionPairs}
         if srdf is not None:
             pin.removeCollisionPairs(model, gm, srdf)
+        collision_pairs.remove_pairs(model, gm, excluded)
         kept = {collision_pairs.link_pair(model, gm, p) for p in gm.collisionPairs}
         #: the robot's link pairs not watched: {(link, link): reason} (see .collision_pairs)
         self.left_out = {tuple(sorted(p)): 'disabled' for p in

@@ -74,12 +74,12 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         """
         Load the robot from a URDF or an MJCF file (told apart by the root element).
 
-        MJCF (``<mujoco>``): Pinocchio's parser; bodies are frames, hinge and slide joints the
-        joints, ``range`` and ``actuatorfrcrange`` the position and torque limits (MJCF has no
-        velocity limits: infinite unless a configuration gives them). A ``freejoint`` on the root
-        body is the floating base (``floating_base`` must then be True); ``floating_base`` without
-        one adds it. Collision geometry (collision avoidance) needs a URDF for now. ValueError
-        naming what the parser refused.
+        MJCF (``<mujoco>``, :mod:`.mjcf`): Pinocchio's parser; bodies are frames, hinge and slide
+        joints the joints, ``range`` the position limits, ``actuatorfrcrange`` and the actuators'
+        ``forcerange`` the torque limits (MJCF has no velocity limits: infinite unless a
+        configuration gives them). A ``freejoint`` on the root body is the floating base
+        (``floating_base`` must then be True); ``floating_base`` without one adds it. Its
+        collision geoms are the collision geometry. ValueError naming what the parser refused.
         """
         if not isinstance(path, (str, os.PathLike)) or not os.path.isfile(path):
             raise FileNotFoundError(f"robot model file not found: '{path}'")

@@ -60,8 +60,9 @@ SCHEMA: tuple[ParamSpec, ...] = (
         'urdf_path',
         'str',
         False,
-        "URDF file (relative names: the package's urdf/); neither this nor robot_description: the "
-        'URDF comes from the robot_description topic',
+        "URDF or MJCF file (relative names: the package's urdf/ and mjcf/; menagerie:<name>: the "
+        "MuJoCo Menagerie's robot, mujoco-menagerie package); neither this nor robot_description: "
+        'the URDF comes from the robot_description topic',
     ),
     ParamSpec('robot_description', 'str', False, 'URDF text, takes precedence over urdf_path'),
     ParamSpec(
