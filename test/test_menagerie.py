@@ -56,8 +56,8 @@ def test_a_menagerie_name_is_the_robots_file_or_one_error_naming_the_cause(menag
                        'under MENAGERIE_ROOT'):
         resolve_urdf_path('menagerie:unitree_go2')
     monkeypatch.setitem(sys.modules, 'mujoco_menagerie', None)  # the package not installed
-    with pytest.raises(ConfigError, match='a Menagerie name needs the mujoco-menagerie package '
-                       r'\(pip install mujoco-menagerie\)'):
+    with pytest.raises(ConfigError, match="'menagerie:universal_robots_ur5e' needs the Python "
+                       "package 'mujoco_menagerie': pip install mujoco-menagerie=="):
         resolve_urdf_path(f'menagerie:{NAME}')
 
 

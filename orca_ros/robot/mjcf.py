@@ -36,6 +36,8 @@ import re
 import numpy as np
 import pinocchio as pin
 
+from ..utils.optional_import import MissingDependency, optional_import
+
 #: the prefix of a robot model named by its Menagerie name (``menagerie:universal_robots_ur5e``)
 MENAGERIE = 'menagerie:'
 
@@ -70,15 +72,25 @@ def build_mjcf_model(path: str, floating_base: bool) -> pin.Model:
                          f"('{model.names[1]}'): load it with floating_base true")
     if floating_base and not free:
         model = pin.buildModelFromMJCFAndRootJoint(path, pin.JointModelFreeFlyer(), 'root_joint')
-    if not floating_base:
-        _place_root_body(model, path)
-    limits = actuator_torque_limits(path)
+    try:  # MuJoCo's parser: what Pinocchio's leaves out
+        if not floating_base:
+            _place_root_body(model, path)
+        limits = actuator_torque_limits(path)
+    except MissingDependency:
+        raise
+    except Exception as exc:  # mujoco raises ValueError with its own text
+        raise ValueError(f"could not read MJCF '{path}' with MuJoCo: {exc}") from exc
     for j in range(1, model.njoints):
         limit = limits.get(model.names[j])
         if limit is not None and model.joints[j].nv == 1:
             k = model.joints[j].idx_v
             model.effortLimit[k] = min(model.effortLimit[k], limit)
     return model
+
+
+def _mujoco():
+    """Return MuJoCo, whose parser reads what Pinocchio's does not (MJCF files only)."""
+    return optional_import('mujoco', 'an MJCF robot model')
 
 
 def root_body_placement(path: str) -> tuple[str, pin.SE3] | None:
@@ -89,8 +101,7 @@ def root_body_placement(path: str) -> tuple[str, pin.SE3] | None:
     state's), or is not the only body under ``<worldbody>``. MuJoCo resolves the orientation
     (quat, euler, axisangle...), compiling the file only when it is not a plain quaternion.
     """
-    import mujoco  # noqa: PLC0415
-
+    mujoco = _mujoco()
     spec = mujoco.MjSpec.from_file(path)
     roots = list(spec.worldbody.bodies)
     if len(roots) != 1 or roots[0].joints:
@@ -139,8 +150,7 @@ def actuator_torque_limits(path: str) -> dict[str, float]:
     when its force is limited (``forcelimited`` true, or auto with a range given). Actuators on
     other transmissions (tendons, sites) limit no joint here.
     """
-    import mujoco  # noqa: PLC0415 (MJCF files only: URDF robots never import MuJoCo)
-
+    mujoco = _mujoco()
     spec = mujoco.MjSpec.from_file(path)
     limits: dict[str, float] = {}
     for act in spec.actuators:
@@ -157,9 +167,7 @@ def actuator_torque_limits(path: str) -> dict[str, float]:
 
 def mjcf_excluded_pairs(path: str) -> set[tuple[str, str]]:
     """Return the body pairs the MJCF file's ``<contact><exclude>`` elements leave out."""
-    import mujoco  # noqa: PLC0415
-
-    return {(e.bodyname1, e.bodyname2) for e in mujoco.MjSpec.from_file(path).excludes}
+    return {(e.bodyname1, e.bodyname2) for e in _mujoco().MjSpec.from_file(path).excludes}
 
 
 def menagerie_path(name: str) -> str:
@@ -172,10 +180,9 @@ def menagerie_path(name: str) -> str:
     the nearest ones), a download that failed.
     """
     try:
-        import mujoco_menagerie  # noqa: PLC0415 (optional: only Menagerie names need it)
-    except ImportError:
-        raise ValueError(f"'{MENAGERIE}{name}': a Menagerie name needs the mujoco-menagerie "
-                         'package (pip install mujoco-menagerie)') from None
+        mujoco_menagerie = optional_import('mujoco_menagerie', f"'{MENAGERIE}{name}'")
+    except MissingDependency as exc:
+        raise ValueError(str(exc)) from None
     try:
         robot = mujoco_menagerie.get(name)
         return str(robot.xml(robot.default_model))

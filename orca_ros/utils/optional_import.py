@@ -31,6 +31,7 @@ PIP = {
     'numba': 'numba==0.68.1',
     'viser': 'viser==1.1.1',
     'mujoco': 'mujoco==4.0.0',
+    'mujoco_menagerie': 'mujoco-menagerie==2026.10.4',
 }
 
 
