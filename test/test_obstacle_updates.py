@@ -255,3 +255,44 @@ def test_a_pair_creeping_onto_the_safety_distance_tightens_its_bound_at_a_bounde
           f'{max(rises):.4f} m/s^2 per cycle (A / h dt = {relax:.3f})')
     assert len(rises) > 50
     assert max(rises) <= relax + 1e-9
+
+
+def test_an_obstacle_deeper_than_max_depth_into_the_arm_is_refused_and_nothing_changes():
+    """
+    Added or moved more than max_depth into a moving link: ValueError naming the link and depth.
+
+    The shipped lwr with a collision constraint (``max_depth`` from the YAML: 5 cm here). A ball
+    of 100 m round the base is refused; so is a 3 cm ball put on the hand's frame origin (the
+    wrist's joint, inside link_6's body: 90 mm deep). The same ball 10 cm beside the hand is
+    taken, its move back onto the hand refused, leaving it where it was; a move to 5 cm beside
+    it (less deep than 5 cm) taken.
+    """
+    robot, c = _lwr(max_depth=0.05)
+    col = c.get_constraint('collision')
+    q = np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6, 0.0])
+    robot.set_robot_state(q, np.zeros(7))
+    c.activate_tasks_and_constraints()
+    assert c.update(0.0, DT)
+    assert col.max_depth == 0.05
+    hand = robot.get_frame_pose('link_7')
+    with pytest.raises(ValueError, match=r"it would go 9\d{4} mm into the robot \('link_\d'\), "
+                       r'deeper than max_depth \(50 mm\)'):
+        col.add_obstacle('huge', 'sphere', [100.0], np.eye(4))
+    on_hand = hand.copy()
+    with pytest.raises(ValueError, match=r"into the robot \('link_\d'\)"):
+        col.add_obstacle('ball', 'sphere', [0.03], on_hand)
+    assert col.obstacle_names() == []
+    beside = hand.copy()
+    beside[:3, 3] += [0.0, 0.1, 0.0]
+    col.add_obstacle('ball', 'sphere', [0.03], beside)
+    with pytest.raises(ValueError, match=r"into the robot \('link_\d'\)"):
+        col.move_obstacle('ball', on_hand)
+    index = col.geometry.obstacles['ball']
+    placed = col.geometry.geom_model.geometryObjects[index].placement
+    assert np.allclose(placed.translation, beside[:3, 3], atol=0.0)
+    nearer = hand.copy()
+    nearer[:3, 3] += [0.0, 0.05, 0.0]
+    col.move_obstacle('ball', nearer)
+    assert np.allclose(col.geometry.geom_model.geometryObjects[index].placement.translation,
+                       nearer[:3, 3], atol=0.0)
+    assert c.update(DT, DT)

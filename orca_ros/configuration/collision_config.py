@@ -27,6 +27,8 @@ A collision avoidance constraint from its configuration (``type: collision_avoid
       pair_samples: 10000         # postures sampled: self pairs never or always in contact
                                   # are left out (0: none; python -m
                                   # orca_ros.robot.collision_pairs URDF writes them as an SRDF)
+      max_depth: 0.1              # m: an obstacle added or moved deeper into the robot's moving
+                                  # bodies is refused (ValueError; the node logs it)
       obstacles: [table]          # names, each described below
       table: {shape: box, size: [1.0, 1.0, 0.05], position: [0.5, 0.0, 0.0], rpy: [0, 0, 0],
               frame: world}       # frame: world (default), or a link the obstacle moves with
@@ -47,7 +49,7 @@ from ..math.rotations import make_transform, rotation_from_rpy
 from ..paths import share_path
 
 _SETTINGS = ('influence_distance', 'safety_distance', 'max_pairs', 'max_deceleration', 'horizon',
-             'max_extrapolation', 'pair_samples')
+             'max_extrapolation', 'pair_samples', 'max_depth')
 
 
 def _srdf_path(path: str, urdf_path: str | None) -> str:

@@ -104,7 +104,8 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
     def __init__(self, name: str, srdf: str | None = None, influence_distance: float = 0.1,
                  safety_distance: float = 0.02, max_pairs: int = 16,
                  max_deceleration: float = 5.0, horizon: float = 0.1, package_dirs=None,
-                 max_extrapolation: float = EXTRAPOLATION, pair_samples: int = SAMPLES):
+                 max_extrapolation: float = EXTRAPOLATION, pair_samples: int = SAMPLES,
+                 max_depth: float = 0.1):
         super().__init__(name)
         self.srdf, self.package_dirs = srdf, package_dirs
         if int(pair_samples) < 0:
@@ -116,7 +117,8 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         #: the longest a pose is carried on along its velocity [s] (see move_obstacle)
         self.max_extrapolation = float(max_extrapolation)
         for what, value in (('influence distance', influence_distance),
-                            ('max deceleration', max_deceleration), ('horizon', horizon)):
+                            ('max deceleration', max_deceleration), ('horizon', horizon),
+                            ('max depth', max_depth)):
             if not (np.isfinite(value) and value > 0.0):
                 raise ValueError(f"constraint '{name}': {what} must be finite and > 0")
         if not (np.isfinite(safety_distance) and 0.0 <= safety_distance < influence_distance):
@@ -129,6 +131,8 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         self.settings = np.array([influence_distance, safety_distance, horizon,
                                   max_deceleration, -LET_GO * max_deceleration], dtype=float)
         self.max_pairs = int(max_pairs)
+        #: the deepest an obstacle may go into the robot's moving bodies, added or moved [m]
+        self.max_depth = float(max_depth)
         self.geometry: CollisionGeometry | None = None
         self._pending: dict = {}  # obstacles added before the robot is known
         self._moving: dict = {}  # name -> (pose, velocity, time of the pose): moved each cycle
@@ -211,12 +215,34 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
 
     # ------------------------------------------------------------------ obstacles
     def add_obstacle(self, name: str, shape: str, size, pose=None, frame=None) -> None:
-        """Add (or replace) a sphere, box, cylinder or capsule at ``pose`` (world or ``frame``)."""
+        """
+        Add (or replace) a sphere, box, cylinder or capsule at ``pose`` (world or ``frame``).
+
+        ValueError, nothing changed, for one that would go more than ``max_depth`` into the
+        robot's moving bodies (:meth:`_refuse_deep`).
+        """
         if self.geometry is None:
             make_shape(shape, size)  # refused now, not at configuration
             self._pending[name] = (shape, size, pose, frame)
         else:
+            self._refuse_deep(name, make_shape(shape, size), pose, frame)
             self.geometry.add_obstacle(name, shape, size, pose, frame)
+
+    def _refuse_deep(self, name: str, shape, pose, frame) -> None:
+        """
+        Raise ValueError if the shape at ``pose`` goes more than ``max_depth`` into the robot.
+
+        No obstacle is first seen that deep: it crossed the influence distance on its way in.
+        Kept, its rows would ask bodies deep inside it to come out at max_deceleration, each at
+        its witness point: a ball of 100 m round the lwr's base (metres for centimetres) threw
+        its joints at the torque limits, 1 rad/s in 15 cycles, before the QP had no solution.
+        """
+        if self.robot is not None and self.robot.is_initialized():
+            depth, link = self.geometry.depth_into_robot(self.robot.data, shape, pose, frame,
+                                                         self.max_depth)
+            if depth > self.max_depth:
+                raise ValueError(f"it would go {depth * 1e3:.0f} mm into the robot ('{link}'), "
+                                 f'deeper than max_depth ({self.max_depth * 1e3:.0f} mm)')
 
     def move_obstacle(self, name: str, pose, frame=None, velocity=None, at=None) -> None:
         """
@@ -229,8 +255,12 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         until its next pose: set it to the poses' period plus their latency. Longer carries an
         obstacle that stopped on further (0.3 m/s: 30 mm at 0.1 s, 60 at 0.2); a ball at 0.3 m/s
         posed every 100 ms with a 30 ms latency stepped the lwr's torques 15-17 Nm at 0.1 s, 3-5
-        at 0.2 (test_obstacle_updates.py).
+        at 0.2 (test_obstacle_updates.py). Refused as :meth:`add_obstacle` refuses, where it
+        was left.
         """
+        if self.geometry is not None and name in self.geometry.obstacles:
+            shape = self.geometry.geom_model.geometryObjects[self.geometry.obstacles[name]]
+            self._refuse_deep(name, shape.geometry, pose, frame)
         self._moving.pop(name, None)
         if at is not None and velocity is not None and frame is None:
             self._moving[name] = (np.array(pose, dtype=float), np.asarray(velocity, float), at)

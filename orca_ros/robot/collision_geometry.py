@@ -254,6 +254,41 @@ class CollisionGeometry:
         self.obstacles[name] = index
         self._rebuild()
 
+    def depth_into_robot(self, data, geometry, pose, frame, beyond: float):
+        """
+        Return how deep a shape (coal's) placed so goes into the robot's moving bodies: (m, link).
+
+        Only a depth beyond ``beyond`` is looked for ((0, '') else): a pair whose bounding
+        spheres overlap by less cannot go that deep (moving one sphere out by its overlap parts
+        both), and coal runs on the rest. The robot's bodies where ``data`` (the controller's
+        last pass) places them, without their rounding. Bodies fixed to the world (a fixed
+        base's) and those of the obstacle's own link are not counted.
+        """
+        joint, placement = self._placement(pose, frame)
+        centre, radius = _bounding_sphere(geometry)
+        rounding = self.rounding + geometry.getSweptSphereRadius()
+        gm, gd = self.geom_model, self.geom_data
+        pin.updateGeometryPlacements(self.model, data, gm, gd)
+        at = data.oMi[joint] * placement
+        centre = at.act(centre)
+        deepest = (0.0, '')
+        request = coal.DistanceRequest()
+        for i in range(self.n_robot):
+            obj = gm.geometryObjects[i]
+            if obj.parentJoint in (0, joint):
+                continue
+            overlap = (radius + self._radius[i] - rounding
+                       - np.linalg.norm(gd.oMg[i].act(self._centre[i]) - centre))
+            if overlap <= max(beyond, deepest[0]):
+                continue
+            result = coal.DistanceResult()
+            coal.distance(obj.geometry, coal.Transform3s(gd.oMg[i]), geometry,
+                          coal.Transform3s(at), request, result)
+            depth = -(result.min_distance + rounding)  # (the bodies' rounding not counted)
+            if depth > max(beyond, deepest[0]):
+                deepest = (float(depth), self.model.frames[obj.parentFrame].name)
+        return deepest
+
     def move_obstacle(self, name: str, pose, frame: str | None = None, velocity=None) -> None:
         """
         Move obstacle ``name`` to ``pose`` (in the world, or in ``frame``).
