@@ -277,18 +277,36 @@ def test_the_ur5e_by_name_reaches_its_targets_and_keeps_from_a_ball_through_the_
     assert failures == 0 and 'safe command' not in log, log[-2000:]
 
 
-@pytest.mark.parametrize('node', ['bridge', 'controller'])
-def test_a_name_the_menagerie_lacks_is_one_line_and_exit_1(menagerie, tmp_path, node):
+@pytest.mark.parametrize('node, case', [('bridge', 'unknown'), ('controller', 'unknown'),
+                                        ('bridge', 'no_package'), ('controller', 'no_package')])
+def test_a_name_the_menagerie_lacks_or_no_package_is_one_line_and_exit_1(menagerie, tmp_path,
+                                                                          node, case):
+    """
+    A name the registry lacks (the nearest suggested), or no mujoco-menagerie package at all.
+
+    The package's absence: the node's Python finds, first on its path, a ``mujoco_menagerie``
+    that raises ImportError, as a missing package does.
+    """
     from orca_ros.ros.launch_free import free_domain_id, Procs
 
     procs = Procs(free_domain_id(), str(tmp_path))
-    model = ('-p', 'urdf_path:=menagerie:universal_robots_ur5')
+    env, name = None, 'universal_robots_ur5'
+    said = ("'menagerie:universal_robots_ur5': Unknown robot 'universal_robots_ur5'. Did you mean "
+            "'universal_robots_ur5e'?")
+    if case == 'no_package':
+        hidden = tmp_path / 'hidden' / 'mujoco_menagerie'
+        hidden.mkdir(parents=True)
+        (hidden / '__init__.py').write_text("raise ImportError('not installed')\n")
+        env = {'PYTHONPATH': os.pathsep.join([str(hidden.parent)] + sys.path)}
+        name = NAME
+        said = ("'menagerie:universal_robots_ur5e' needs the Python package 'mujoco_menagerie': "
+                'pip install mujoco-menagerie==')
+    model = ('-p', f'urdf_path:=menagerie:{name}')
     if node == 'bridge':
-        p = procs.start_arm_bridge('lockstep', *model, simulator='mujoco')
+        p = procs.start_arm_bridge('lockstep', *model, simulator='mujoco', env=env)
     else:
-        p = procs.start_arm_controller('lockstep', *model)
+        p = procs.start_arm_controller('lockstep', *model, env=env)
     try:
-        procs.assert_refused(p, node, "'menagerie:universal_robots_ur5': Unknown robot "
-                             "'universal_robots_ur5'. Did you mean 'universal_robots_ur5e'?")
+        procs.assert_refused(p, node, said)
     finally:
         procs.stop()
