@@ -279,8 +279,8 @@ def test_the_ur5e_by_name_reaches_its_targets_and_keeps_from_a_ball_through_the_
 
 @pytest.mark.parametrize('node, case', [('bridge', 'unknown'), ('controller', 'unknown'),
                                         ('bridge', 'no_package'), ('controller', 'no_package')])
-def test_a_name_the_menagerie_lacks_or_no_package_is_one_line_and_exit_1(menagerie, tmp_path,
-                                                                          node, case):
+def test_a_name_the_menagerie_lacks_or_no_package_is_one_line_and_exit_1(
+        menagerie, tmp_path, node, case):
     """
     A name the registry lacks (the nearest suggested), or no mujoco-menagerie package at all.
 
