@@ -142,3 +142,68 @@ def test_a_bilateral_contact_supports_too():
     assert c.update(0.0, 0.001)
     feet = np.array([robot.get_frame_pose(f'{leg}_foot')[:2, 3] for leg in LEGS])
     assert sorted(map(tuple, bal.polygon.round(6))) == sorted(map(tuple, feet.round(6)))
+
+
+def test_the_kernels_hull_is_the_references_on_awkward_point_sets(rng):
+    """Duplicates, collinear points, inner points, fewer than three: the same vertices in order."""
+    from orca_ros.constraint.balance_kernel import convex_hull
+
+    sets = [rng.normal(0.0, 0.2, (n, 2)) for n in (1, 2, 3, 4, 8, 16) for _ in range(20)]
+    square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+    sets += [square, np.vstack([square, square]), np.vstack([square, [[0.5, 0.5], [0.5, 0.0]]]),
+             np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]]), np.array([[0.3, 0.1]] * 4),
+             square + 1e-13 * rng.normal(size=square.shape)]
+    for points in sets:
+        pts, hull = np.zeros((len(points), 2)), np.zeros((2 * len(points), 2))
+        k = convex_hull(np.ascontiguousarray(points), pts, hull)
+        assert np.array_equal(hull[:k], convex_hull_2d(points)), points
+
+
+def test_the_kernels_rows_are_the_references_on_the_quadruped():
+    """
+    The balance rows by kernel (the compiled cycle's) against numpy's, at 1300 random states.
+
+    The quadruped example's controller, compiled and not, fed the same states: four feet, then
+    three (a contact off, once its load has ramped out), then two (no polygon: every row
+    relaxed). Rows equal to round-off.
+    """
+    import pinocchio as pin
+
+    pair = []
+    for compiled in (True, False):
+        robot = make_robot()
+        qc = QuadrupedController(robot, 'daqp')
+        qc.controller.compiled = compiled
+        pair.append(qc)
+    rng = np.random.default_rng(3)
+    model = pair[0].robot.model
+    q0 = pin.neutral(model)
+    q0[2], q0[7:] = STAND_HEIGHT, STAND_Q
+    worst, seen = 0.0, set()  # and the polygons' edge counts (0: none)
+    for k in range(1300):
+        q = q0.copy()
+        q[:3] += rng.normal(0.0, 0.01, 3)
+        q[7:] += rng.normal(0.0, 0.05, model.nq - 7)
+        v = rng.normal(0.0, 0.2, model.nv)
+        for qc in pair:
+            qc.robot.set_configuration(q, v)
+            if k == 50:
+                qc.contacts['FL'].deactivate()
+            if k == 650:
+                qc.contacts['HR'].deactivate()
+            qc.set_base_target([0.0, 0.0, STAND_HEIGHT])
+            qc.update(k * 1e-3, 1e-3)
+        b1, b2 = (qc.controller.get_constraint('balance') for qc in pair)
+        if k == 0:
+            assert b1._kernel is not None and b2._kernel is None
+        np.testing.assert_array_equal(b1.polygon, b2.polygon)
+        seen.add(len(b2.polygon) if len(b2.polygon) >= 3 else 0)
+        np.testing.assert_allclose(b1.C, b2.C, rtol=0.0, atol=1e-14)
+        np.testing.assert_array_equal(np.isinf(b1.ub), np.isinf(b2.ub))
+        finite = np.isfinite(b2.ub)
+        scale = np.maximum(1.0, np.abs(b2.ub[finite]))
+        worst = max(worst, (np.abs(b1.ub[finite] - b2.ub[finite]) / scale).max(initial=0.0))
+        np.testing.assert_array_equal(b1.lb, b2.lb)
+    print(f'bounds differ by {worst:.1e} (relative); polygons of {sorted(seen)} edges')
+    assert seen == {0, 3, 4}
+    assert worst < 1e-12

@@ -29,8 +29,8 @@ h the CoM's height over the support points) decelerates the CoM at omega^2 times
 an edge at most, the centre of pressure on that edge: the CoM stops before the shrunk edge braking
 at min(``max_acceleration``, omega^2 margin), what it still gets there, and is never asked for more
 than omega^2 times its distance to the edge where it is. A larger demand is met only by tilting
-the body (angular momentum): braking at 2 m/s^2 to a 3 cm margin, a 150 N side push tilted the
-shipped quadruped 44 deg. Nor does the bound demand a stop within one cycle (no one-step term): the
+the body (angular momentum): with the defaults, the shipped quadruped meets a hard side push
+mostly by tilting. Nor does the bound demand a stop within one cycle (no one-step term): the
 polygon moves with the contacts (a foot lifted, a sole switched off) and may leave the CoM outside.
 
 A push may still leave no solution (the capture point out of the polygon: a fall without a step):
@@ -101,6 +101,16 @@ class BalanceConstraint(GenericConstraint):
         self.set_max_acceleration(max_acceleration)
         self.set_horizon(horizon)
         self.polygon = np.zeros((0, 2))  # the last support polygon (not shrunk), CCW
+        self._kernel = None  # balance_kernel.balance_rows in the compiled cycle (use_kernel)
+
+    def use_kernel(self, on: bool) -> None:
+        """Compute the rows by the compiled kernel (:mod:`.balance_kernel`), or in numpy."""
+        if on:
+            from .balance_kernel import balance_rows  # noqa: PLC0415 (numba: compiled cycle only)
+
+            self._kernel = balance_rows
+        else:
+            self._kernel = None
 
     def set_margin(self, margin: float) -> None:
         """Distance kept between the CoM and the polygon's edges [m], >= 0."""
@@ -129,6 +139,7 @@ class BalanceConstraint(GenericConstraint):
         self._room, self._vel, self._out = np.zeros(m), np.zeros(m), np.zeros(m)
         self._shrunk, self._bound = np.zeros(m), ViableBound(m)
         self._normals = np.zeros((m, 2))
+        self._pts, self._hull = np.zeros((m, 2)), np.zeros((2 * m, 2))  # (the kernel's)
 
     def _support(self) -> np.ndarray:
         pts = [
@@ -140,6 +151,15 @@ class BalanceConstraint(GenericConstraint):
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
         m = self.C.shape[0]
+        if self._kernel is not None and m:
+            support = self._support()
+            p, J, v, bias = self.robot.get_center_of_mass_terms()
+            g = max(float(-self.robot.get_gravity()[2]), 0.0)
+            k = self._kernel(support, p, J, v, bias, g, self.margin, self.max_acceleration,
+                             self.horizon, dt, self.layout.acc.start, self.C, self.lb, self.ub,
+                             self._pts, self._hull, self._normals)
+            self.polygon = self._hull[:k].copy()
+            return
         self.C.fill(0.0)
         self.lb.fill(-np.inf)
         self.ub.fill(np.inf)
@@ -169,8 +189,8 @@ class BalanceConstraint(GenericConstraint):
         acc = max(min(self.max_acceleration, omega2 * self.margin), 1e-6)
         # approach the shrunk edge over the horizon h, and let the braking margin r - v^2 / (2 A)
         # shrink no faster than with the time constant h (moving towards it), braking at A at
-        # most, and at A once the margin is spent (a push: without it, the 200 N side push failed
-        # 6 cycles); no one-step or viability term (A is the pendulum's, and the polygon moves)
+        # most, and at A once the margin is spent (a push: without it, a hard side push made
+        # cycles fail); no one-step or viability term (A is the pendulum's, and the polygon moves)
         np.subtract(room, self.margin, out=self._shrunk)
         self._bound.set_acceleration(acc)
         self._bound.upper(self._shrunk, vel, dt, max(self.horizon, dt), out, one_step=False,

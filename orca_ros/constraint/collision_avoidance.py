@@ -31,15 +31,15 @@ an obstacle that jumps in is braked back out at that deceleration). A self pair 
 safety distance when it enters the rows (a start) is held where it is and not let closer, its
 floor following it out (:meth:`floor_of`): never asked to jump apart. One row per
 pair, the ``max_pairs`` closest: the QP's size is fixed; unused rows are relaxed. A pair left
-out for that budget has no row, and may enter it already binding: the Panda's hand going round a
-ball (test_collision_avoidance.py) keeps ~10 pairs close to it, its hand and finger hulls; with 8
-rows a finger pair entered with a bound of 1.9 m/s^2 away and the torques stepped 12.5 Nm in one
-cycle, with 16 (the default) no pair was left out and the largest step was 2.9 Nm (the joints
-then riding their velocity limits to catch up after the detour; 0.03 Nm without the ball).
-Ranking the pairs by how much their bounds bind instead of by distance made pairs swap in and out
-of 8 rows at every cycle (10 Nm). A pair entering
-the influence zone at the speeds the horizon allows gets a bound that does not bind yet: its
-torques change continuously.
+out for that budget has no row (no bound at all that cycle), and may enter it already
+binding, with no last bound to relax from: the torques step. ``max_pairs`` should therefore
+cover the pairs that come close at once, each row costing a larger QP: the default leaves room
+for those of a hand going round a ball, its hand and finger hulls, with none left out
+(test_collision_avoidance.py). The pairs are ranked by distance: ranked by how much their
+bounds bind, they swapped in and out of the rows from one cycle to the next, the torques
+stepping at each swap. A pair entering the influence zone at the speeds the horizon allows
+gets a bound that does not bind yet (a fast pair enters early, while it can still stop gently
+before the safety distance: :meth:`pair_limits`): its torques change continuously.
 """
 
 from __future__ import annotations
@@ -66,7 +66,7 @@ def _skew(r):
 
 
 def _cross(a, b):
-    """Return the cross product of two 3-vectors (numpy's cross costs ~30x more here)."""
+    """Return the cross product of two 3-vectors (numpy's cross costs far more on these)."""
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
                      a[0] * b[1] - a[1] * b[0]])
 
@@ -235,7 +235,7 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         No obstacle is first seen that deep: it crossed the influence distance on its way in.
         Kept, its rows would ask bodies deep inside it to come out at max_deceleration, each at
         its witness point: a ball of 100 m round the lwr's base (metres for centimetres) threw
-        its joints at the torque limits, 1 rad/s in 15 cycles, before the QP had no solution.
+        its joints at the torque limits before the QP had no solution.
         """
         if self.robot is not None and self.robot.is_initialized():
             depth, link = self.geometry.depth_into_robot(self.robot.data, shape, pose, frame,
@@ -253,9 +253,9 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         ``max_extrapolation`` s on), so that a late or sparse pose (a perception's, a topic on a
         busy machine) is not taken for the obstacle's position now. Past that it stands still
         until its next pose: set it to the poses' period plus their latency. Longer carries an
-        obstacle that stopped on further (0.3 m/s: 30 mm at 0.1 s, 60 at 0.2); a ball at 0.3 m/s
-        posed every 100 ms with a 30 ms latency stepped the lwr's torques 15-17 Nm at 0.1 s, 3-5
-        at 0.2 (test_obstacle_updates.py). Refused as :meth:`add_obstacle` refuses, where it
+        obstacle that stopped on further (its speed times the extra time); shorter leaves a
+        moving obstacle standing still before each pose, which then jumps it on and steps the
+        torques (test_obstacle_updates.py). Refused as :meth:`add_obstacle` refuses, where it
         was left.
         """
         if self.geometry is not None and name in self.geometry.obstacles:
@@ -275,7 +275,8 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         Remove an obstacle; the bounds it set last cycle relax away (``_leave``).
 
         Without that, an arm held off an obstacle by its rows, its task pulling into it, lurched
-        the moment it was removed: 18 Nm in one cycle on the lwr (test_ros_obstacles.py's ball).
+        the moment it was removed, its torques stepping in one cycle (test_ros_obstacles.py's
+        ball).
         """
         self._moving.pop(name, None)
         if self.geometry is None:
@@ -410,7 +411,7 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         infeasible); while it keeps its row its floor follows it out, never back in, up to the
         safety distance. An obstacle's pairs keep the safety distance: an obstacle moves, and one
         seen late or sparsely jumps in; it is braked back out (safety first: held where found,
-        a ball posed every few steps on a busy machine went 23 mm into the lwr's hand). The
+        a sparsely posed ball went further into the hand at each pose). The
         kernels (``optim/compiled/collision.py``) keep the same floors.
         """
         safety = self.settings[1]

@@ -40,8 +40,8 @@ class RowRelaxation:
 
         A bound relaxes from its last value at A / horizon per second at most. The pairs are
         renumbered when obstacles come and go: what was kept follows each pair by its bodies'
-        names (else the arm's own pairs would lose theirs when a ball is removed: 12 Nm in one
-        cycle, test_ros_obstacles.py).
+        names (else the arm's own pairs would lose theirs when a ball is removed, and the torques
+        step in one cycle: test_ros_obstacles.py).
         """
         geom = self.geometry
         if self._kept_version != geom.version:
@@ -90,7 +90,7 @@ class RowRelaxation:
 
         Each is the row its pair had last, its bound relaxed at A / horizon per second until it
         lets the bodies close in at LET_GO A (a task pulling hard into the place may still meet a
-        bound below -A: dropped there, it stepped the lwr's torques 50 Nm), or room runs out.
+        bound below -A: dropped there, it let the torques step), or room runs out.
         """
         relax = self.max_deceleration / max(self.horizon, dt) * dt
         keep = []
@@ -110,7 +110,7 @@ class RowRelaxation:
         lets the bodies close in at LET_GO A, or room runs out; return the rows' count. A pair
         leaves with a bound that still binds when an obstacle moves off at once (a sparse pose,
         a detection corrected) or the arm is pushed off one that came too close: dropped at
-        once, the row let the lwr's torques jump 154 Nm in one cycle (test_obstacle_updates.py).
+        once, the row let the torques jump in one cycle (test_obstacle_updates.py).
         Its last row, not the pair's row now: an obstacle that jumped has another normal.
         """
         relax = self.max_deceleration / max(self.horizon, dt) * dt

@@ -138,7 +138,10 @@ class ContactBase(GenericConstraint):
 
     def support_points(self) -> np.ndarray:
         """Return the contact's points in the world (support_point_count x 3)."""
-        return point_terms(self.robot, self._fid, getattr(self, 'offset', None))[0][None, :]
+        T = self.robot.world_frame_placement(self._fid)
+        offset = getattr(self, 'offset', None)
+        point = T[:3, 3] if offset is None else T[:3, 3] + T[:3, :3] @ offset
+        return point[None, :]
 
 
 class NormalForceRamp:
@@ -166,8 +169,9 @@ class NormalForceRamp:
         """
         Drop, in place, the part of the contact's velocity v that goes into the surface.
 
-        The surface stops that part itself. Fed back, it made a foot landing at 0.14 m/s (a 1 mm
-        drop) ask for ~700 N for 3 ms at a gain of 200 /s. Sliding, and lifting off, stay in.
+        The surface stops that part itself. Fed back, it made a landing foot ask for a spike of
+        normal force (an acceleration out of the surface of the gain times its landing speed).
+        Sliding, and lifting off, stay in.
         """
         n = self.contact_normal_world()
         vn = float(n @ v[:3])
@@ -360,8 +364,8 @@ def surface_contact(name: str, frame: str, points, **settings) -> list[Contact]:
     For a flat contact (a foot sole, a hand on a table) use
     :class:`~orca_ros.constraint.surface_wrench_contact.SurfaceContact` instead: the same physics
     (the centre of pressure inside the sole, torsional friction) as one 6-D wrench, where these
-    points cost 6 variables and 3 rank-deficient existence rows each (Talos, two soles of 4
-    corners, on the reference path: 1757 us per step against 217 us). This form remains for
+    points cost 6 variables and 3 rank-deficient existence rows each (several times slower per
+    step for a biped's two soles of four corners). This form remains for
     points that are not on the frame's xy plane, or when each point's force is wanted.
 
     ``settings``: friction_coefficient, margin, number_of_faces, contact_normal,

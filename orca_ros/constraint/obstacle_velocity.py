@@ -24,11 +24,10 @@ from __future__ import annotations
 
 import numpy as np
 
-#: poses at most this far apart [s] give a velocity: perceptions at 4 Hz and faster. At 0.1 s, the
-#: poses of a 10 Hz perception (100 ms apart, give or take their jitter) had a velocity one time
-#: and none the next, and the obstacle stood still, then jumped: with test_obstacle_updates.py's
-#: ball posed every 100 +- 10 ms, 30 ms late, the lwr's torques stepped 23-53 Nm in one cycle,
-#: against 15-17 at 0.25 s (max_extrapolation 0.1 s in both; 3-5 at 0.2 s)
+#: poses at most this far apart [s] give a velocity: perceptions at 4 Hz and faster. A window
+#: close to a perception's period gave its poses (apart by that period, give or take their
+#: jitter) a velocity one time and none the next, and the obstacle stood still, then jumped,
+#: stepping the torques (test_obstacle_updates.py's ball): keep it well above the period
 VELOCITY_WINDOW = 0.25
 
 

@@ -136,7 +136,7 @@ class SurfaceContact(NormalForceRamp, ContactBase):
 
     def support_points(self) -> np.ndarray:
         """Return the sole's corners in the world (n x 3)."""
-        T = self.robot.world_frame_terms(self._fid)[0]
+        T = self.robot.world_frame_placement(self._fid)
         return self.points @ T[:3, :3].T + T[:3, 3]
 
     def contact_normal_world(self) -> np.ndarray:

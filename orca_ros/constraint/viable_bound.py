@@ -27,10 +27,10 @@ and A the deceleration that can always be produced, the largest admissible a is 
 * the braking margin s = room - v^2 / (2 A) (what is left after braking at A) shrinks no faster
   than with the time constant h / 2: ds/dt = -v (1 + a / A) >= -2 s / h, i.e. for v > 0
   a <= 2 (A room - v^2 / 2) / (h v) - A. Without it, the viability bound alone is a wall in
-  acceleration: its gain on the velocity is 1 / dt, so a joint driven at 50 rad/s^2 towards its
-  limit meets it in one cycle (a 20 Nm torque step on an iiwa); with it the braking sets in over
-  ~h / 2 (h itself changed the transients enough that the xArm7 of test_other_arms.py ended its
-  third target 0.29 mm away after 2 s, 0.2 asserted: the phase of a null-space drift). In the
+  acceleration: its gain on the velocity is 1 / dt, so a joint driven hard towards its limit
+  meets it in one cycle, its torque stepping; with it the braking sets in over ~h / 2 (h shapes
+  the transients, and with them where a redundant arm's null-space drift is at a given time:
+  test_other_arms.py's xArm7 checks such a phase). In the
   continuous limit it is the tighter of the two (2 / h <= 1 / dt), and it equals -A on the
   viability boundary, so it takes nothing from the states that can still stop. Where s <= 0 it
   does not apply (it would ask for more than A: a joint resting on its limit and creeping

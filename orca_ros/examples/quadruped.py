@@ -102,22 +102,22 @@ class QuadrupedController:
         """
         Make the standing controller.
 
-        Three settings make it hold a 150 N, 0.1 s push from any side (measured in PyBullet,
-        ``test_contact_velocity_feedback.py``: no failed cycle, tilt <= 3.1 deg; without any one
-        of them it tips over):
+        Three settings make it hold a 150 N, 0.1 s push from any side (in PyBullet,
+        ``test_contact_velocity_feedback.py``: no failed cycle, tilt under 10 deg; without any
+        one of them it tips over):
 
         * ``horizontal_weight``: the trunk's x and y rows weigh this much more than its height
           and orientation. The feet can only resist a push as hard as they are pressed down;
-          with equal weights, the trunk's height servo unloaded them once the push had lifted the
-          trunk 5 mm, and the robot tipped over (at 150 N: 1 and 4 tip over, 4.5 to 10 hold).
+          with equal weights, or too small a ratio, the trunk's height servo unloaded them once
+          the push had lifted the trunk, and the robot tipped over.
         * ``contact_velocity_gain``: velocity feedback in the feet's existence conditions
-          (a foot set sliding comes back to rest; at 100 N the feet slide 3.9 mm, 105 mm
-          without).
+          (a foot set sliding comes back to rest; without it, a push slides the feet far
+          further).
         * ``joint_braking`` [rad/s^2]: the deceleration the position limits count on
           (``JointPositionLimitConstraint.set_max_acceleration``). The library's 5 rad/s^2 suits an
           arm; these legs (25 Nm on links of 0.25-1 kg) brake much harder, and at 5 a knee 1.2 rad
           from its limit may not turn faster than 3.5 rad/s: the unloaded legs of a pushed robot
-          then cannot follow it (the push fails with 5 and 20, holds with 50 to 200).
+          then cannot follow it (the push is lost at low values, held at the default).
 
         ``quad``: the trunk, feet and standing posture (default: the shipped quadruped's).
         """

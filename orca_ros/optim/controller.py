@@ -254,7 +254,7 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin,
                     b.deadline, b.max_iterations = deadline, most
                     fused = step.took(flags, flag, iters, cap, ns)
                 else:  # FusedStep.took_solved and _written_out, inline: with their two calls
-                    # the Panda's cycle in bench_tsid measured 1.03x TSID's, 1.01x without
+                    # the Panda's cycle in bench_tsid is measurably slower
                     b.iterations = iters
                     problem.return_code = fused = _SUCCESS
                     problem.built_finite = True

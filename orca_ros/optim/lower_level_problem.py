@@ -74,9 +74,9 @@ def orthonormalise_locks(rows: np.ndarray) -> None:
 
 
 #: the default temporal damping of the levels below the first (a ratio, see set_temporal_damping):
-#: strict and GENERALIZED torques continuous on arms nobody tuned for (at most 1.0 Nm per 1 ms
-#: cycle on the lwr, iiwa and Panda 3-level stack of test/test_lower_level_damping.py; 10 cycles
-#: of lag on a level that follows its optimum)
+#: strict and GENERALIZED torques without steps on arms nobody tuned for (the lwr, iiwa and Panda
+#: 3-level stack of test/test_lower_level_damping.py), for about this many cycles of lag on a
+#: level that follows its optimum
 DEFAULT_LOWER_LEVEL_DAMPING = 10.0
 
 
@@ -271,10 +271,10 @@ class LowerLevelProblem(WeightedProblem):
 
     def _relaxed(self, lo, hi, value, out_lo, out_hi) -> None:
         # room left to the step z, less _ROOM_TOL: the level above meets its bounds only to its
-        # solver's accuracy; a crumb of room left by rounding (4e-7 rad/s^2 on a joint resting on
-        # its bound) let a posture level move far along a direction that barely touches that
-        # joint, and not at all the next cycle (a 3.3 Nm step): less the tolerance, the room is 0
-        # then and grows continuously
+        # solver's accuracy; a crumb of room left by rounding (on a joint resting on its bound)
+        # let a posture level move far along a direction that barely touches that joint, and not
+        # at all the next cycle (a torque step): less the tolerance, the room is 0 then and grows
+        # continuously
         np.subtract(lo, value, out=out_lo)
         out_lo += _ROOM_TOL
         np.minimum(out_lo, 0.0, out=out_lo)

@@ -17,7 +17,7 @@ The step of a strict lower level in a null-space basis, for solvers that need in
 A strict level holds the rows of the levels above and the constraint equalities, A z = 0, for its
 step z = x - x_ref. DAQP takes them as equality rows and its active set leaves out the dependent
 ones (see :mod:`.lower_level_problem`). ProxQP and OSQP do not converge on dependent equality rows
-(the 3-level arm stack: 281 of 3000 cycles at OSQP's iteration limit, 6 at ProxQP's); for them the
+(on the 3-level arm stack both stop at their iteration limits, OSQP often); for them the
 step is z = D N y with N an orthonormal basis of the null space of A D from an SVD (rank decided at
 1e-9 relative), D the variables' scale, so that the locks cost no row at all. Inequalities and
 bounds become rows [C D N; D N] with the relaxed bounds, normalised; a row that the null space does

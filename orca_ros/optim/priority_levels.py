@@ -102,10 +102,10 @@ class PriorityLevels:
         level is the weighted solution exactly; the strict cascade's damping at alpha = 1;
         continuous in between. The level's cost holds the upper tasks' too, which push it
         across the active set of their bands as long as those are open: damped relative to its own
-        weights only (posture 1e-3 under tasks of weight 1 and 10), a level jumped by 18 rad/s^2 in
-        a cycle as a band row came active (the Panda stack's closed-loop alpha ramp: 4.5 Nm in a
-        cycle; with the upper share 1.4, and 1.3-1.7 with any power of (1 - alpha) from 0 to 0.75;
-        5.3 with power 1: the upper share must fade slower than the bands close, (1 - alpha)^2).
+        weights only (posture 1e-3 under tasks of weight 1 and 10), a level jumped in a cycle as a
+        band row came active, and the torques stepped (the Panda stack's closed-loop alpha ramp).
+        The upper share removes that with a power of (1 - alpha) below 1, not with power 1: it
+        must fade slower than the bands close, (1 - alpha)^2.
         """
         own = self.level_tasks[i]
         w = sum(t.weight for t in own if t.is_computing())

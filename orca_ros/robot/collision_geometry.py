@@ -17,8 +17,8 @@ The robot's collision geometry and the obstacles around it, and their distances 
 The geometry is the URDF's ``<collision>`` elements (``package://`` resolved as the simulator does,
 :mod:`.urdf_text`), or an MJCF robot's collision geoms (Pinocchio's parser; the file's
 ``<contact><exclude>`` body pairs left out as an SRDF's disabled pairs are), meshes replaced by
-their convex hulls (coal's GJK on convex shapes: 21 us for the Panda's 44 pairs against its
-meshes' BVHs, far slower). Pairs watched: every two geometries of
+their convex hulls (coal's GJK on convex shapes, far faster than the distance between the
+meshes' BVHs). Pairs watched: every two geometries of
 different bodies, minus adjacent bodies (a joint between them) and the pairs an SRDF disables
 (``disable_collisions``, example-robot-data ships them); plus every obstacle against every robot
 geometry. Obstacles are primitives (sphere, box, cylinder, capsule) fixed in the world or to a
@@ -28,10 +28,10 @@ Per cycle :meth:`CollisionGeometry.closest` places the geometries from the joint
 controller's Pinocchio pass left in Data, discards the pairs whose bounding spheres are further
 apart than they may matter (the influence distance, further for a pair closing fast:
 :meth:`CollisionGeometry.closing_bound`), and runs coal's distance on the rest (Pinocchio's
-``computeDistance`` on the pair: 2.6 us on the Panda, where building coal's transforms and result
-in Python for ``coal.distance`` took 18 us): distance, witness points and the normal from the
-first body to the second. The compiled cycle screens the pairs and reads the results by kernel
-(:mod:`orca_ros.optim.compiled.collision`); ``version`` counts the rebuilds of ``geom_data``
+``computeDistance`` on the pair, in C++: building coal's transforms and result in Python for
+``coal.distance`` costs several times the distance itself): distance, witness points and the normal
+from the first body to the second. The compiled cycle screens the pairs and reads the results by
+kernel (:mod:`orca_ros.optim.compiled.collision`); ``version`` counts the rebuilds of ``geom_data``
 (obstacles added or removed), after which it takes its views again.
 """
 
@@ -206,9 +206,9 @@ class CollisionGeometry:
             # GJK stops when its distance is this close; its normal is then off by about
             # sqrt(2 tol / d): at coal's 1e-6, up to 4e-3 rad at 10 cm, jumping from one state to
             # the next as the iterations end at other points; the rows follow it. On the
-            # Panda going round a ball (test_collision_avoidance.py) the torques stepped 4.6 Nm
-            # in one cycle from that noise; 2.9 at 1e-8 and below (the joints' own kink). GJK takes
-            # as long at 1e-9 as at 1e-6 there (0.82 us per pair).
+            # Panda going round a ball (test_collision_avoidance.py) that noise stepped the
+            # torques; at GJK_TOLERANCE and below only the joints' own kinks remain, and GJK
+            # takes no longer there than at coal's default.
             request.gjk_tolerance = GJK_TOLERANCE
         # the bounding volumes (the robot's computed once: a rebuild for an obstacle runs in
         # the control cycle)

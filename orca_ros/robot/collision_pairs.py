@@ -26,9 +26,9 @@ A robot's own pairs fall into four kinds the collision constraint must not watch
 * ``always``: in contact in at least :data:`ALWAYS` of the sampled postures;
 * ``near``: within the constraint's safety distance in at least :data:`ALWAYS` of the sampled
   postures (not in contact): the kinematics hold the links that close, the constraint could only
-  hold the robot still where it finds them (an iiwa's link 5 and flange link 7 hulls, 11 mm
-  apart or less in 95 % of the postures: watched at a 3 cm safety distance, the pair's row asked
-  for separations its joints' velocity limits did not allow, and every cycle failed);
+  hold the robot still where it finds them (an iiwa's link 5 and flange link 7 hulls, closer
+  than a 3 cm safety distance in nearly every posture: watched there, the pair's row asked for
+  separations its joints' velocity limits did not allow, and every cycle failed);
 * ``never``: in contact in none of the sampled postures: the kinematics keep the links apart (a
   UR5's tool flange block and its first wrist link are 2-3 cm apart and cannot meet; watched, the
   pair held the wrist still from the start).

@@ -50,6 +50,19 @@ class FrameApiMixin:
         self._frame_cache[fid] = (self._stamp, terms)
         return terms
 
+    def world_frame_placement(self, fid: int):
+        """
+        world_H_frame (4x4) of frame ``fid``: the placement of :meth:`world_frame_terms` alone.
+
+        Its Jacobian and velocities are not computed (a support polygon needs the feet's places
+        only).
+        """
+        hit = self._frame_cache.get(fid)
+        if hit is not None and hit[0] == self._stamp:
+            return hit[1][0]
+        self._update_terms()
+        return pin.updateFramePlacement(self.model, self.data, fid).homogeneous
+
     def _base_terms(self):
         if self._base_is_world:
             return None

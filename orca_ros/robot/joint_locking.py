@@ -19,8 +19,8 @@ gripper's driver. The fingers still move the arm's dynamics and the frames beyon
 centre point between the fingers), so they are not dropped from the model: they are welded at the
 position the joint states report, with Pinocchio's ``buildReducedModel``. When a locked joint has
 moved by more than a tolerance since the last weld, the model is welded again at the new position
-(about 60 us for a 9-joint arm: it only happens while the gripper moves). The reduced model keeps
-the joint and frame structure across welds, so frame ids and vector sizes never change.
+(a rebuild of the model, not free: it only happens while the gripper moves). The reduced model
+keeps the joint and frame structure across welds, so frame ids and vector sizes never change.
 """
 
 from __future__ import annotations

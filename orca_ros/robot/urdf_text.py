@@ -17,7 +17,7 @@ URDF text made loadable by any reader: file names resolved, collision shapes swa
 PyBullet does not know ROS packages: a description such as example-robot-data's Talos names
 its meshes ``package://example-robot-data/...`` and PyBullet loads it without them. And a dynamic
 body's collision mesh becomes its convex hull in PyBullet, whose contact with the ground can be
-poor: Talos standing on the hulls of its ankle meshes is thrown off the ground within 2 s, on
+poor: Talos standing on the hulls of its ankle meshes is soon thrown off the ground, on
 boxes of its soles' size it stands (``test/test_talos_pybullet.py``). Both are edits of the URDF
 text, made here with the standard library's XML parser.
 """

@@ -30,7 +30,7 @@ COMMAND_QOS = QoSProfile(
 )
 # its writer keeps the last second at 1 kHz: a reliable reader that lags (a recorder on a busy
 # machine) still receives every command. With depth 1 the writer replaced samples not yet
-# acknowledged, and a bag of 8643 cycles once held 8319 commands
+# acknowledged, and a recorded bag missed commands
 COMMAND_WRITER_QOS = QoSProfile(
     depth=1000, reliability=ReliabilityPolicy.RELIABLE, history=HistoryPolicy.KEEP_LAST
 )

@@ -61,8 +61,8 @@ class ControllerDiagnostics:
         """
         Solve times and loop periods over the last ``statistics_window`` cycles.
 
-        A job's slices: one partition of a window per slice (a 10000-sample window: ~0.15 ms
-        each, ~0.3 ms with the caches a 1 kHz loop leaves); ``yield from`` returns the numbers.
+        A job's slices: one partition of a window per slice (each a fraction of a 1 kHz loop's
+        period, even on a large window); ``yield from`` returns the numbers.
         """
         sol, per = self.solve_times, self.loop_periods
         solve_median, solve_p99 = sol.quantiles((0.5, 0.99))

@@ -16,9 +16,9 @@ A node's periodic jobs that are not control (feedback, diagnostics, garbage coll
 
 Why: the control cycle and these jobs share one executor thread. A job that runs when its own
 timer fires may hold the thread when the control timer is due, and that cycle is late by the
-job's length. Measured in the 1 kHz node (shipped YAML, bridge on the same two cores): the
-diagnostics report took 1.9 ms, the feedback 0.4 ms, a young-generation collection 0.3 ms;
-they made most of the control periods above 1.2 ms.
+job's length: in the 1 kHz node a diagnostics report takes longer than a period, the feedback
+and a young-generation collection a sizeable part of one, and they made most of the late
+control periods (docs/benchmarks.md).
 
 How: a job is a generator function; each ``yield`` marks where it may pause. While the control
 loop runs (a cycle ended less than two periods ago), a job's timer only queues it, and each cycle,

@@ -61,7 +61,7 @@ class Probe:
         self.efforts: list = []  # (stamp, torques the simulator applied in the step before stamp)
         # best effort, as sensor data, with a deep queue: a probe that falls behind for a moment
         # (its Python thread, a loaded machine) keeps the states (depth 5 lost the pair of steps
-        # a one-cycle torque jump was in: test_ros_trajectory's counterfactual saw 4.6 Nm)
+        # a one-cycle torque jump was in: test_ros_trajectory's counterfactual)
         sensor = QoSProfile(depth=1000, reliability=ReliabilityPolicy.BEST_EFFORT)
         self.node.create_subscription(JointState, '/joint_states', self._on_state, sensor)
         from nav_msgs.msg import Odometry
@@ -99,8 +99,8 @@ class Probe:
         # of the state the command answers (the command names it, common.ANSWERS), None when it
         # names none. A state announced again is answered again with the same command: the
         # hook sees that instant twice (counting the relayed commands as steps ran the targets
-        # ahead of the simulation by a step at each, and a ball posed 2 ms ahead stepped the
-        # lwr's torques 11 Nm)
+        # ahead of the simulation by a step at each, and a ball posed ahead stepped the lwr's
+        # torques)
         self.relay_hook = None
         self.relay_errors: list = []
         if relay_from:

@@ -20,10 +20,10 @@ lists CPUs, pins itself to them. Every thread of the process at that moment is s
 the middleware's), and threads started later inherit it from their creator. A thread that ends
 between the listing and its setting is skipped: threads come and go while the node runs.
 
-Why (measured, bench/bench_node_soak.py's pair on 2 cores, 10 minutes each): at normal
-priority the control timer's wake-up waited behind the simulator and the middleware's threads
-(the late cycles started ~1.3 ms after the previous one ended), and a cycle was preempted
-half-way. The period's p99 was 1.535 ms at normal priority, 1.086 ms at ``SCHED_FIFO`` 50.
+Why (bench/bench_node_soak.py; the figures in docs/benchmarks.md): at normal priority the
+control timer's wake-up waited behind the simulator and the middleware's threads, and a cycle
+could be preempted half-way; at ``SCHED_FIFO`` the period's 99th percentile stays close to the
+nominal period.
 
 Where the system refuses (no ``CAP_SYS_NICE``, no ``rtprio`` limit, a container), the node says
 so in one warning and runs at normal priority: nothing else changes. A CPU that is not available

@@ -22,7 +22,8 @@ simulation is a real one. ``world`` and the base frame (empty ``frame_id``) are 
 in a link's frame is refused here (the simulator would have to weld it to the link) with a
 throttled log line, as bad markers are. So is an obstacle that would go more than ``OVERLAP``
 into the robot's moving links, added or moved (a marker of 100 m for 10 cm): the simulator would
-push the links out of it at once, as no real obstacle can (the lwr's joints at 100 rad/s); a
+push the links out of it at once, as no real obstacle can (the lwr's joints flung far past
+their velocity limits); a
 moved one stays where it was.
 """
 

@@ -17,8 +17,8 @@ The command sent when the controller cannot be trusted (stale state, QP failure,
 hold(q, v) = g(q) - M(q) k_d v   (g omitted when the drives compensate gravity themselves), clipped
 to the torque limits. The damping is an acceleration gain (1/s) weighted by the mass matrix, so
 every joint gets the same damping time constant: a plain Nm s/rad gain strong enough for the
-shoulder makes a light wrist joint unstable at a 1 ms control period (measured: the last joint of
-the arm spun). When trouble starts, the last good command fades linearly into the hold command over
+shoulder makes a light wrist joint unstable at a 1 ms control period (the last joint of the arm
+spun). When trouble starts, the last good command fades linearly into the hold command over
 ``ramp`` seconds, so the torques never step. For a floating-base robot g(q) is the actuated part of
 the free robot's gravity torques (what holds its limbs, not what would keep it standing: no safe
 command can do that alone).

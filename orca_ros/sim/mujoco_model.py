@@ -26,7 +26,7 @@ MuJoCo traps handled here:
 * the URDF's joint damping and dry friction are zeroed, as the PyBullet model does: the
   simulated dynamics are the controller's model's;
 * brakes are dry joint friction as large as the joints' effort limits with a hard constraint
-  impedance (MuJoCo's default lets a loaded joint creep: 0.24 rad in 1 s on the lwr);
+  impedance (MuJoCo's default lets a loaded joint creep under its load);
 * servoed joints (a gripper's own driver) are held by their position actuator, its gains set in
   the compiled model: a critically damped 50 Hz loop on the joint's own inertia by default. Run
   time settings of the compiled model are written again when the world is recompiled.

@@ -62,7 +62,8 @@ GROUND = 'ground_plane'
 _LOG = get_logger('mujoco')
 _UNSTABLE = int(mujoco.mjtWarning.mjWARN_BADQACC)
 #: contacts: time constant [s] (at least 2 steps) and impedance of MuJoCo's soft contacts. Its
-#: defaults (20 ms; 0.9-0.95 over 1 mm) let Solo12's feet sink 1.2 mm under its weight, these 0.03
+#: defaults (20 ms; 0.9-0.95 over 1 mm) let Solo12's feet sink into the ground under its weight,
+#: these a small fraction of that
 CONTACT_TIME = 0.005
 CONTACT_IMPEDANCE = [0.99, 0.999, 0.001, 0.5, 2.0]
 

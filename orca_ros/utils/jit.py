@@ -39,6 +39,7 @@ caching = optional_import('numba.core.caching', 'the compiled control cycle')
 _PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _SOURCES = sorted(
     glob.glob(os.path.join(_PACKAGE, 'optim', 'compiled', '*.py'))
+    + glob.glob(os.path.join(_PACKAGE, '*', '*_kernel.py'))
     + [os.path.join(_PACKAGE, 'optim', 'solvers', 'time_model.py'), os.path.abspath(__file__)]
 )
 
@@ -89,11 +90,11 @@ def entry(dispatcher, *args):
     """
     Return the compiled function of ``dispatcher`` for the types of ``args``, compiled if needed.
 
-    A dispatcher call resolves its arguments' types every time: ~1 us per StructRef argument (a
-    Python-level typeof), ~0.13 us per array. The compiled function takes the arguments as they
-    are (~0.1 us in all). It does not check them: call it only with arguments of exactly these
-    types (the workspace's own objects, or arrays checked for dtype, dimensions and layout where
-    they enter); anything else may be misread.
+    A dispatcher call resolves its arguments' types every time: a Python-level typeof per StructRef
+    argument, the costliest, and a lookup per array. The compiled function takes the arguments as
+    they are, at a fraction of that cost. It does not check them: call it only with arguments of
+    exactly these types (the workspace's own objects, or arrays checked for dtype, dimensions and
+    layout where they enter); anything else may be misread.
     """
     sig = tuple(dispatcher.typeof_pyval(a) for a in args)
     if sig not in dispatcher.overloads:

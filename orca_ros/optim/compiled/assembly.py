@@ -39,8 +39,8 @@ def assemble(ws):
 
     ``n0`` dense rows and ``nd0`` diagonal tasks (the regularisation first) make level 0;
     ``jb``: first joint-acceleration variable, ``nj`` joints. (The workspace is the argument,
-    not its ~30 arrays: each array passed to a call costs a reference count taken and given
-    back, atomic operations, ~0.5 us in all.)
+    not its arrays one by one: each array passed to a call costs a reference count taken and
+    given back, atomic operations.)
     """
     E, f, w, sel, row_task, ew = ws.E, ws.f, ws.w, ws.sel, ws.row_task, ws.ew
     dg_f, dg_sel, dg_colw, dg_ws, dg_wsf = ws.dg_f, ws.dg_sel, ws.dg_colw, ws.dg_ws, ws.dg_wsf

@@ -126,7 +126,7 @@ class CompiledCascade:
             elif not (lev.releasing or lev.open) and b._set_up \
                     and p.temporal_damping == lev.mu_for:
                 # the steady strict level: prepared and solved warm in one call (_by_kernel's
-                # and solve_prepared's, inline: their frames cost ~1 us per level)
+                # and solve_prepared's, inline: their Python frames spared at every level)
                 b.deadline, b.max_iterations = deadline, most
                 flag, iters, cap, ns = lev.framed(lev.frame, _UPDATE_ALL, late, most)
                 if flag == 1:  # (the time model updated by the kernel)
@@ -196,7 +196,7 @@ class CompiledCascade:
         """
         p = lev.problem
         mu = p.temporal_damping
-        if mu != lev.mu_for:  # (numpy item writes cost ~0.1 us each: on a change only)
+        if mu != lev.mu_for:  # (numpy item writes are not free: on a change only)
             # times the own and the upper tasks' weights, by kernel (PriorityLevels.damping_scale)
             alpha = lev.alpha
             lev.mu[0] = mu * alpha

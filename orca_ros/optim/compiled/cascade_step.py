@@ -16,10 +16,10 @@ The whole cycle of a stack of levels in one kernel call: the one-call cycle, the
 
 With levels below the first, a cycle was the one-call cycle (:mod:`.fused_step`), then one
 kernel call per level (:mod:`.cascade`) with its Python around it, then one more to write the
-last level's solution out: ~4 us of calls and Python per cycle on the lwr's three levels, where
-a level's kernel costs ~4 us. Here :func:`cascade_step` runs the first level, each level below
-whose kernels run warm (its ``mode``: strict, or GENERALIZED with bands; 0: Python's this
-cycle), as the cascade's own kernels do, and writes the last solution out. It stops at the
+last level's solution out: on the lwr's three levels, the calls and the Python cost about as much
+per cycle as a level's kernel. Here :func:`cascade_step` runs the first level, each level below
+whose kernels run warm (its ``mode``: strict, or GENERALIZED with bands; 0: Python's this cycle),
+as the cascade's own kernels do, and writes the last solution out. It stops at the
 first level it cannot finish: one not warm, or a solve that failed; the cascade takes over
 from there with the kernel's outcome for that level (:meth:`.cascade.CompiledCascade.solve`),
 so a failure is handled as before (retried cold, the null-space fallback, the level dropped).

@@ -38,6 +38,7 @@ from .plan_assembly import PlanAssembly
 from .state_kernel import StateKernel
 from .workspace import make_workspace
 from ..solvers import QPSolver, ReturnCode
+from ...constraint.balance_constraint import BalanceConstraint
 from ...robot.centroidal_momentum import CentroidalMomentum
 from ...robot.state_input import _QUATERNION_TOL
 from ...utils.jit import entry
@@ -66,6 +67,11 @@ class CompiledCycle(CycleContacts):
             else:
                 self.lowered.append(low)
         attach_kernels(controller._constraints, self.python, self.in_python)
+        for obj in controller._constraints:  # balance: its polygon and rows by its kernel
+            if isinstance(obj, BalanceConstraint):
+                obj.use_kernel(obj in self.python)
+                if obj in self.python:
+                    self.in_python[obj.name] = 'inputs in Python, polygon and rows by kernel'
         self.tables = t = Tables(self.lowered, robot)
         for k, low in enumerate(self.lowered):
             low.bind(t, k, plan)
@@ -197,7 +203,7 @@ class CompiledCycle(CycleContacts):
             n_wrenches=self.n_wrenches, **self.assembly.arrays(),
         )
         # the kernels for this workspace's types, called without the dispatcher's type
-        # resolution (utils.jit.entry: ~1 us per call with the workspace as argument); the
+        # resolution (utils.jit.entry: it types the workspace anew at every call); the
         # finish kernel's arrays are the controller's and the levels' solutions (float64, 1-D)
         ws = self.ws
         self._run = entry(cycle_kernel.run, ws, 1e-3)
@@ -224,7 +230,7 @@ class CompiledCycle(CycleContacts):
         watch.touched = False
         if self.owns_layout or not self.layout.n_wrenches:
             # this cycle's Pinocchio pass (terms.py): two passes, or computeAllTerms (inline: a
-            # method's frame costs ~0.3 us per cycle); (T, t0) are views on Pinocchio's M and
+            # method's frame spared at every cycle); (T, t0) are views on Pinocchio's M and
             # nle (_bind_data) without contacts
             r = self.robot
             if not self.two_passes:

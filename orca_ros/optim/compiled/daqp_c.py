@@ -14,9 +14,9 @@
 """
 DAQP's C entry points, as the pinned daqp (0.11.0) exports them from its extension module.
 
-The Python wrapper (``daqp.Model``) costs ~3 us per cycle around a ~2-3 us solve: keyword
-arguments, contiguity checks, a settings dict, a result dict and copies. The compiled cycle calls
-``daqp_update_ldp`` and ``daqp_solve`` from its kernel instead (:mod:`.daqp_kernel`), on
+The Python wrapper (``daqp.Model``) costs about as much per cycle as the small solve it wraps:
+keyword arguments, contiguity checks, a settings dict, a result dict and copies. The compiled cycle
+calls ``daqp_update_ldp`` and ``daqp_solve`` from its kernel instead (:mod:`.daqp_kernel`), on
 structures laid out here with ctypes after DAQP's ``types.h`` and ``api.h``.
 
 A wrong layout must not pass silently (DAQP reads whatever memory it is given): :func:`check`

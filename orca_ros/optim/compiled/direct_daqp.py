@@ -18,8 +18,8 @@ The same problem, the same solver and the same warm start as the reference path'
 ``ScaledBackend(DAQPBackend)`` (:mod:`orca_ros.optim.solvers`): the QP is scaled, DAQP's
 workspace keeps the last active set, a failed warm solve is retried cold with what is left of
 the iteration cap, and a failed solve starts the next one cold (a fresh workspace, set up as
-``daqp.Model.setup`` does). What goes is the Python around the solve (~3 us of the Panda's
-cycle): scaling, update, solve and the solution in physical units are one kernel call
+``daqp.Model.setup`` does). What goes is the Python around the solve (a noticeable part of a
+small arm's cycle): scaling, update, solve and the solution in physical units are one kernel call
 (:mod:`.daqp_kernel`); set-ups, rare, stay in Python (ctypes, :mod:`.daqp_c`).
 
 A workspace's first set-up checks the structures' layout against what DAQP wrote

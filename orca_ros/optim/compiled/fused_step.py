@@ -16,7 +16,7 @@ The cycle up to the first level's solution in one kernel call: rows, assembly, D
 
 Where the compiled cycle solves its first level by kernel (:mod:`.direct_daqp`), its kernel
 calls (:func:`.cycle_kernel.run`, the solve, and for one level :func:`.cycle_kernel.finish`)
-and the Python between them (~6 us on the Panda) become one call of
+and the Python between them become one call of
 :func:`.cycle_kernel.step`. What the solve does is the same: the iteration cap from the time
 left when the solve starts, the solve timed alone for the solver's time model (both in the
 kernel: :mod:`.clock`, :mod:`..solvers.time_model`), a failed warm solve retried cold with
@@ -71,8 +71,8 @@ class FusedStep:
         # and this kernel (then the cascade, if levels come below), with nothing else in
         # Python (no contacts, no object updated in Python, no centroidal terms), the
         # controller runs it inline, without CompiledCycle.update's and this object's frames
-        # and tests: ~2 us less per cycle on the Panda, where the Python around a cycle costs
-        # more than its kernel does
+        # and tests: on an arm such as the Panda, the Python around a cycle costs more than
+        # its kernel does
         self.lean = self.cascade_step = None
         if (not cc.python and cc._centroidal is None and cc.two_passes and not cc.owns_layout
                 and not cc.layout.n_wrenches):

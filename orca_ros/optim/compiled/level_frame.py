@@ -15,10 +15,10 @@
 A level's kernel arguments in one numba structure: a call passes it and the cycle's budget.
 
 Each level below the first is prepared and solved by one kernel call per cycle
-(:func:`.lower_level.prepare_and_solve`, or its GENERALIZED form). Its eight or nine
-arguments (three or four structures, an array, scalars) cost ~1 us per call in the control
-loop; the frame holds what stays from cycle to cycle (the level's state, its back-ends' DAQP
-states, their time models, the clock, the iteration floor), made with the level.
+(:func:`.lower_level.prepare_and_solve`, or its GENERALIZED form). Its eight or nine arguments
+(three or four structures, an array, scalars) are each unboxed at every call in the control loop;
+the frame holds what stays from cycle to cycle (the level's state, its back-ends' DAQP states,
+their time models, the clock, the iteration floor), made with the level.
 """
 
 from __future__ import annotations

@@ -373,7 +373,7 @@ def prepare_and_solve_generalized(s, ref, banded, strict, deadline, most, least,
     set up); S_BANDED or S_STRICT with that solve's flag (0: not set up), the reference solved.
     The lock rows of the level's M take the strict form only where it is solved or the cycle
     goes on in Python (a failure): after a banded solve they are the tasks' rows as they are
-    (~0.45 us per level less on the lwr's stack).
+    (no rewrite of them at every cycle).
     """
     ready = prepare(s, False)
     if ready != READY:

@@ -149,7 +149,7 @@ class _Lowered:
             on = obj.state not in _INACTIVE
         if on:
             self.refresh()
-        if on is not self._on:  # numpy item writes cost ~0.1 us: only on a change
+        if on is not self._on:  # numpy item writes are not free: only on a change
             self.tables.tab[self.k, 1] = on
             self._on = on
 

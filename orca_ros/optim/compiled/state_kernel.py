@@ -15,11 +15,11 @@
 The robot's state input by kernel: what :mod:`orca_ros.robot.state_input` does per cycle.
 
 A compiled cycle gives its robot this kernel (``RobotModel._state_kernel``): the common state
-inputs on a robot without continuous joints, ``set_configuration(q, v)`` (float64 vectors of
-the right sizes, any strides) and a fixed base's ``set_robot_state(q, v)`` (contiguous float64
-arrays of the right sizes), are checked (finite; the base quaternion's norm) and written in one
-call (~1 us instead of ~3-4 us of numpy calls). A state it refuses, and every other input,
-takes the Python path, which names the fault.
+inputs on a robot without continuous joints, ``set_configuration(q, v)`` (float64 vectors of the
+right sizes, any strides) and a fixed base's ``set_robot_state(q, v)`` (contiguous float64 arrays
+of the right sizes), are checked (finite; the base quaternion's norm) and written in one call
+(instead of several numpy calls, each with its Python overhead). A state it refuses, and every
+other input, takes the Python path, which names the fault.
 """
 
 from __future__ import annotations
@@ -62,7 +62,7 @@ class RobotArrays(structref.StructRefProxy):
     """
     The robot's state arrays the kernels write, and its sizes, in one structure.
 
-    A call passes it as one argument (each array passed costs ~0.2 us in the control loop).
+    A call passes it as one argument (each array passed is unboxed at every call otherwise).
     """
 
 

@@ -14,9 +14,9 @@
 """
 The one-call cycle's arguments in one numba structure: a call passes it and the cycle's time.
 
-A call into compiled code unboxes every argument: on the Panda, :func:`.cycle_kernel.step`'s
-thirteen (two structures, five arrays, six scalars) cost ~2.2 us per call in the control loop,
-against ~0.8 us for a structure and two scalars. The frame holds what stays from cycle to cycle
+A call into compiled code unboxes every argument, each at a cost: :func:`.cycle_kernel.step`'s
+thirteen (two structures, five arrays, six scalars) cost several times what a structure and two
+scalars do in the control loop. The frame holds what stays from cycle to cycle
 (the workspace, DAQP's state, the time model, the controller's output arrays, the clock, the
 iteration floor, whether the kernel writes the solution out); made when the one-call cycle is
 bound (:class:`.fused_step.FusedStep`), again when any of them is replaced.

@@ -16,7 +16,8 @@ Fill the kernels' disk cache ahead of time: ``python -m orca_ros.optim.compiled.
 
 Configures a controller of each kind the kernels are typed for (fixed base; floating base without
 contacts; with contacts; levels below the first: two strict levels, as the shipped arm's, and three
-GENERALIZED ones), so that a later process loads them (~1 s) instead of compiling them (~8 s).
+GENERALIZED ones), so that a later process loads them instead of compiling them (several times
+longer).
 The test command runs it first, so that no test's timing includes a cold compile (one test,
 test_compiled_startup.py, measures that on purpose, in a folder of its own).
 """

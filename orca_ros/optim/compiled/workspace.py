@@ -14,8 +14,8 @@
 """
 The cycle's arrays in one numba structure, so that a kernel call passes one argument.
 
-numba unboxes every array argument of a call (~0.04 us each); the cycle's ~45 arrays would cost
-~2 us per call. A StructRef holds references to them (no copy: Pinocchio's live views, the plan's
+numba unboxes every array argument of a call, each at a cost; the cycle has dozens of arrays.
+A StructRef holds references to them (no copy: Pinocchio's live views, the plan's
 arrays, the lowering's tables) and passes as one pointer; its kernels are cached on disk like
 the others. Made once per configuration.
 """
@@ -74,6 +74,6 @@ def make_workspace(**arrays) -> CycleWorkspace:
     missing = set(FIELDS) - set(arrays)
     if missing:
         raise TypeError(f'workspace fields missing: {sorted(missing)}')
-    # (CycleWorkspace(...) in Python compiles numba's constructor anew in every process: 3.8 s
-    # of a 5 s warm start on this machine)
+    # (CycleWorkspace(...) in Python compiles numba's constructor anew in every process: most
+    # of a warm start's time)
     return _construct(*(arrays[name] for name in FIELDS))

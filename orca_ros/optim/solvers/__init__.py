@@ -37,12 +37,13 @@ def make_backend(
         b = DAQPBackend(nx, n_eq, n_in)
     elif solver is QPSolver.OSQP:
         # with contacts, its polishing often fails on the degenerate wrench block: the ADMM iterate
-        # itself must then agree with DAQP to 1e-6 (Talos: 1.4e-5 at 1e-7, 1.5e-7 at 1e-9)
+        # itself must then agree with DAQP to 1e-6 (test_talos_balance.py): on Talos at 1e-9,
+        # not at 1e-7
         b = OSQPBackend(nx, n_eq, n_in, eps=1e-9 if scaled else 1e-7)
     elif solver is QPSolver.PROXQP:
         # a scaled problem keeps dynamics rows with coefficients up to ~1e3 (M, J^T m g): ProxQP's
-        # primal residual floors at ~1.2e-9 there (Talos: 1000 iterations at 1e-9); 1e-8 still
-        # agrees with DAQP to 1e-6 (test_talos_balance.py)
+        # primal residual floors near 1e-9 there (at 1e-9 Talos's solves ran to the iteration
+        # cap); 1e-8 still agrees with DAQP to 1e-6 (test_talos_balance.py)
         b = ProxQPBackend(nx, n_eq, n_in, box=box, eps_abs=1e-8 if scaled else 1e-9)
     else:
         raise ValueError(f'unsupported QP solver {solver!r}')

@@ -18,8 +18,8 @@ A dual active-set solver for small dense QPs (Arnström, Bemporad, Axehill, IEEE
 
 Why it is the default: on the controller's QPs (bench/bench_solvers.py, the Panda, quadruped and
 Talos scenarios of bench/peer/scenarios.py in closed loop) a warm-started cycle takes one
-active-set iteration and the solve is 1.3x (Talos) to 3.9x (quadruped) faster than ProxQP's and
-6-27x faster than OSQP's; it returns the exact solution of its final active set (no
+active-set iteration and the solve is faster than ProxQP's on each scenario and several times
+faster than OSQP's; it returns the exact solution of its final active set (no
 tolerance-driven drift between solvers), and, being a dual method, finds an infeasible problem
 quickly instead of iterating to a limit.
 

@@ -25,8 +25,8 @@ _MAX_INNER = 50
 
 class ProxQPBackend(QPBackend):
     name = 'proxqp'
-    # outer iterations: a warm-started feasible cycle takes 1-2; one costs up to ~100 us at
-    # quadruped size on an infeasible problem (measured), so the floor is kept low
+    # outer iterations: a warm-started feasible cycle takes one or two; on an infeasible
+    # problem of a quadruped's size one may cost a good part of a period, so the floor is low
     min_iterations = 4
 
     def __init__(self, nx: int, n_eq: int, n_in: int, eps_abs: float = 1e-9, box: bool = True):
@@ -50,14 +50,14 @@ class ProxQPBackend(QPBackend):
         # by default: bounded too, so that one outer iteration cannot take a whole control period
         st.max_iter_in = _MAX_INNER
         # the default infeasibility thresholds (1e-4) declare feasible control QPs with active
-        # torque limits infeasible within ~10 iterations (measured); true infeasibility is still
+        # torque limits infeasible within a few iterations; true infeasibility is still
         # detected at these
         st.eps_primal_inf = 1e-10
         st.eps_dual_inf = 1e-10
         # small primal and dual residuals alone let ProxQP stop at a point that is not optimal:
-        # on Talos's scaled QP (a nearly unloaded sole, a degenerate wrench block) 1.8e-4 away
-        # from DAQP's exact solution, in some processes and not others. With the duality gap
-        # checked too, 5.9e-7 in every process (test_talos_balance.py)
+        # on Talos's scaled QP (a nearly unloaded sole, a degenerate wrench block) visibly off
+        # DAQP's exact solution, in some processes and not others. With the duality gap checked
+        # too, within the test's 1e-6 in every process (test_talos_balance.py)
         st.check_duality_gap = True
         st.eps_duality_gap_abs = min(self.eps_abs, 1e-9)
         st.eps_duality_gap_rel = 0.0

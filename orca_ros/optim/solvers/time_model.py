@@ -28,9 +28,9 @@ from __future__ import annotations
 import math
 
 #: share of the time left that the iteration cap is computed for: the cost of an iteration
-#: varies with the problem (a failing solve's iterations cost up to ~2.5x a warm feasible one's,
-#: measured with ProxQP), so the model's estimate may be low by that much on the first hard
-#: cycle without the cycle overrunning its budget
+#: varies with the problem (a failing solve's iterations cost a few times a warm feasible one's,
+#: with ProxQP), so the model's estimate may be low by that much on the first hard cycle without
+#: the cycle overrunning its budget
 TIME_SHARE = 0.4
 
 
