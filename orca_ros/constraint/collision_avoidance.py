@@ -49,6 +49,7 @@ import pinocchio as pin
 
 from .collision_relaxation import LET_GO, RowRelaxation
 from .generic_constraint import GenericConstraint
+from .row_capacity import row_capacity
 from .viable_bound import ViableBound
 from ..common.task_base import ActivationState
 from ..robot.collision_geometry import CollisionGeometry, make_shape
@@ -69,35 +70,6 @@ def _cross(a, b):
     """Return the cross product of two 3-vectors (numpy's cross costs far more on these)."""
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
                      a[0] * b[1] - a[1] * b[0]])
-
-
-#: a capacity for the base's coordinates (moved by contacts, not torques): no cap
-_UNCAPPED = 1e9
-
-
-def _capacity(robot) -> np.ndarray:
-    """
-    Return each coordinate's acceleration at its torque limit alone, tau_max_i / M_ii (nv).
-
-    A row n . (J_p2 - J_p1) nu_dot >= lb can be met at most up to sum_i |row_i| tau_max_i / M_ii
-    (each joint at its limit, gravity and coupling aside): a bound above that asks the joints
-    for what they cannot give, and the QP has no solution. That happens where the pair's
-    distance is stationary in the joints (a UR5's flange block at its closest to the first wrist
-    link: the row ~0, while the bound asked for a separation, and the wrist spun to its
-    velocity limit). The bound is capped there. Computed at configuration
-    (the start posture's inertia); joints without a torque limit, and a floating base's
-    coordinates, are not capped.
-    """
-    model = robot.model
-    data = model.createData()
-    M = pin.crba(model, data, robot.get_configuration())
-    nb = model.nv - robot.get_nr_of_degrees_of_freedom()
-    cap = np.full(model.nv, _UNCAPPED)
-    tau = robot.get_joint_torque_limits()
-    inertia = np.diag(M)[nb:]
-    ok = np.isfinite(tau) & (tau > 0.0) & (inertia > 0.0)
-    cap[nb:][ok] = np.minimum(tau[ok] / inertia[ok], _UNCAPPED)
-    return cap
 
 
 class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
@@ -314,7 +286,7 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         self._bound = ViableBound(m)
         self._bound.set_acceleration(self.max_deceleration)
         robot = self.robot
-        self.capacity = _capacity(robot)
+        self.capacity = row_capacity(robot)
         if self.geometry is None or self.geometry.model is not robot.model:
             self.geometry = CollisionGeometry(robot, self.srdf, self.package_dirs,
                                               samples=self.pair_samples,
@@ -448,6 +420,6 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
             k = rows[i][4]
             if when[k] == cycle - 1:
                 lb[i] = self._rate_limited(i, lb[i], kept[k], room, vel, drift, dt, h, m)
-            # never more than the joints can give the pair (see _capacity)
+            # never more than the joints can give the pair (see row_capacity)
             lb[i] = min(lb[i], float(np.abs(rows[i][2]) @ self.capacity))
             kept[k], when[k] = lb[i], cycle

@@ -169,7 +169,7 @@ def rows(ws, n, dt, acc0):
                 if bound < ws.kept[k] - relax:
                     bound = min(ws.kept[k] - relax, A - drift)
             cap = 0.0  # never more than the joints can give the pair (collision_avoidance's
-            for c in range(row.shape[0]):  # _capacity)
+            for c in range(row.shape[0]):  # row_capacity)
                 cap += abs(row[c]) * ws.capacity[c]
             if bound > cap:
                 bound = cap
