@@ -310,3 +310,41 @@ def test_a_name_the_menagerie_lacks_or_no_package_is_one_line_and_exit_1(
         procs.assert_refused(p, node, said)
     finally:
         procs.stop()
+
+
+def test_the_web_views_scene_draws_the_ur5e_where_mujoco_places_it(menagerie):
+    """
+    The web view's scene of the Menagerie file: every visual mesh where MuJoCo puts its own.
+
+    Compared by the meshes' bounding boxes in the world (MuJoCo re-centres a mesh on its
+    inertial frame and keeps its vertices as float32), at a posture off the keyframe.
+    """
+    from orca_ros.view.robot_scene import RobotScene
+
+    with open(menagerie) as fh:
+        scene = RobotScene(fh.read(), menagerie)
+    q = np.array(HOME) + [0.3, -0.2, 0.4, 0.1, -0.3, 0.5]
+    scene.update(dict(zip(scene.joint_names, q)))
+    m = mujoco.MjModel.from_xml_path(menagerie)
+    d = mujoco.MjData(m)
+    d.qpos[:] = q
+    mujoco.mj_kinematics(m, d)
+
+    def box(vertices, R, t):
+        world = np.asarray(vertices, dtype=float) @ np.asarray(R).T + t
+        return np.concatenate([world.min(axis=0), world.max(axis=0)])
+
+    ours = [box(v.vertices, T[:3, :3], T[:3, 3])
+            for v, T in zip(scene.visuals, scene.visual_poses())]
+    theirs = []
+    for g in range(m.ngeom):
+        if m.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH:
+            mesh = m.geom_dataid[g]
+            start, count = m.mesh_vertadr[mesh], m.mesh_vertnum[mesh]
+            theirs.append(box(m.mesh_vert[start:start + count], d.geom_xmat[g].reshape(3, 3),
+                              d.geom_xpos[g]))
+    assert len(ours) == len(theirs) == 20
+    worst = max(min(np.abs(b - a).max() for a in ours) for b in theirs)
+    print(f'{len(theirs)} meshes, bounding boxes within {worst:.1e} m')
+    # float32 vertices, a metre from the base: 1e-7 m of rounding each
+    assert worst < 1e-6
