@@ -260,29 +260,32 @@ class CollisionGeometry:
 
         Only a depth beyond ``beyond`` is looked for ((0, '') else): a pair whose bounding
         spheres overlap by less cannot go that deep (moving one sphere out by its overlap parts
-        both), and coal runs on the rest. The robot's bodies where ``data`` (the controller's
-        last pass) places them, without their rounding. Bodies fixed to the world (a fixed
+        both), and coal runs on the rest, the most overlapping first. The robot's bodies where
+        ``data``'s joint placements (the controller's last pass) put them, without their
+        rounding. Bodies fixed to the world (a fixed
         base's) and those of the obstacle's own link are not counted.
         """
         joint, placement = self._placement(pose, frame)
         centre, radius = _bounding_sphere(geometry)
         rounding = self.rounding + geometry.getSweptSphereRadius()
-        gm, gd = self.geom_model, self.geom_data
-        pin.updateGeometryPlacements(self.model, data, gm, gd)
         at = data.oMi[joint] * placement
         centre = at.act(centre)
+        objects, oMi = self.geom_model.geometryObjects, data.oMi
+        bodies = [i for i in range(self.n_robot) if objects[i].parentJoint not in (0, joint)]
+        if not bodies:
+            return 0.0, ''
+        places = [oMi[objects[i].parentJoint] * objects[i].placement for i in bodies]
+        centres = np.array([M.act(self._centre[i]) for M, i in zip(places, bodies)])
+        overlap = (radius + self._radius[bodies] - rounding
+                   - np.linalg.norm(centres - centre, axis=1))
         deepest = (0.0, '')
         request = coal.DistanceRequest()
-        for i in range(self.n_robot):
-            obj = gm.geometryObjects[i]
-            if obj.parentJoint in (0, joint):
-                continue
-            overlap = (radius + self._radius[i] - rounding
-                       - np.linalg.norm(gd.oMg[i].act(self._centre[i]) - centre))
-            if overlap <= max(beyond, deepest[0]):
-                continue
+        for k in np.argsort(-overlap):
+            if overlap[k] <= max(beyond, deepest[0]):
+                break
+            obj = objects[bodies[k]]
             result = coal.DistanceResult()
-            coal.distance(obj.geometry, coal.Transform3s(gd.oMg[i]), geometry,
+            coal.distance(obj.geometry, coal.Transform3s(places[k]), geometry,
                           coal.Transform3s(at), request, result)
             depth = -(result.min_distance + rounding)  # (the bodies' rounding not counted)
             if depth > max(beyond, deepest[0]):
