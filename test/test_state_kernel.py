@@ -82,6 +82,72 @@ def test_floating_base_configurations_equal_the_python_path(example_robot_urdf, 
         )
 
 
+def _random_base_state(model, rng):
+    """Return (world_H_base, q, base twist in world axes, v) of a random floating-base state."""
+    T = pin.SE3.Random().homogeneous
+    nj = model.nv - 6
+    return T, rng.uniform(-1.0, 1.0, nj), rng.standard_normal(6), rng.standard_normal(nj)
+
+
+def test_the_five_argument_state_equals_the_python_path(example_robot_urdf, rng):
+    """
+    ``set_robot_state(world_H_base, q, twist, v, gravity)`` by kernel: the Python path's state.
+
+    The quaternion as Eigen converts (1 ulp from Pinocchio's, which normalises), the base twist
+    rotated into base axes summed in another order than numpy's dot (round-off); the joints,
+    the pose and twist kept, bit for bit. A new gravity takes the Python path and is set.
+    """
+    a, b = _pair(example_robot_urdf('solo_description/robots/solo12.urdf'), floating=True)
+    g = np.array([0.0, 0.0, -9.81])
+    for k in range(200):
+        T, q, twist, v = _random_base_state(a.model, rng)
+        if k == 100:
+            g = np.array([0.5, 0.0, -9.7])
+        for r in (a, b):
+            r.set_robot_state(T, q, twist, v, g)
+        np.testing.assert_array_equal(a._q, b._q)
+        np.testing.assert_array_equal(a._v, b._v)
+        np.testing.assert_array_equal(a._q_pin[7:], b._q_pin[7:])
+        np.testing.assert_array_equal(a._q_pin[:3], b._q_pin[:3])
+        np.testing.assert_allclose(a._q_pin[3:7], b._q_pin[3:7], rtol=0.0, atol=4e-16)
+        np.testing.assert_allclose(a._v_pin, b._v_pin, rtol=0.0, atol=1e-15)
+        np.testing.assert_array_equal(a.get_world_to_base_transform(), T)
+        np.testing.assert_array_equal(a.get_base_velocity(), b.get_base_velocity())
+        np.testing.assert_array_equal(a.get_gravity(), g)
+        np.testing.assert_allclose(a.get_frame_pose('FL_FOOT'), b.get_frame_pose('FL_FOOT'),
+                                   rtol=0.0, atol=1e-15)
+    # the kernel took them (not the Python path): a state it refuses is the test below
+    assert a._state_kernel.full_state(T, q, twist, v, g)
+
+
+@pytest.mark.parametrize('fault', ['nan_pose', 'not_rotation', 'reflection', 'nan_twist'])
+def test_a_refused_five_argument_state_is_named_and_leaves_the_previous_one(
+        example_robot_urdf, rng, fault):
+    a, _ = _pair(example_robot_urdf('solo_description/robots/solo12.urdf'), floating=True)
+    g = np.array([0.0, 0.0, -9.81])
+    T, q, twist, v = _random_base_state(a.model, rng)
+    a.set_robot_state(T, q, twist, v, g)
+    before = a._q_pin.copy(), a._v_pin.copy(), a._q.copy(), a._v.copy()
+    bad_T, bad_twist = T.copy(), twist.copy()
+    if fault == 'nan_pose':
+        bad_T[1, 2] = np.nan
+        match = 'NaN or infinite'
+    elif fault == 'not_rotation':
+        bad_T[:3, :3] *= 1.01
+        match = 'not a rotation matrix'
+    elif fault == 'reflection':
+        bad_T[:3, 0] *= -1.0
+        match = 'not a rotation matrix'
+    else:
+        bad_twist[4] = np.inf
+        match = 'NaN or infinite'
+    assert not a._state_kernel.full_state(bad_T, q, bad_twist, v, g)
+    with pytest.raises(ValueError, match=match):
+        a.set_robot_state(bad_T, q, bad_twist, v, g)
+    for x, y in zip(before, (a._q_pin, a._v_pin, a._q, a._v)):
+        np.testing.assert_array_equal(x, y)
+
+
 @pytest.mark.parametrize('fault', ['nan', 'inf', 'quaternion'])
 def test_refused_states_are_named_and_leave_the_previous_one(example_robot_urdf, rng, fault):
     a, _ = _pair(example_robot_urdf('solo_description/robots/solo12.urdf'), floating=True)

@@ -262,8 +262,9 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         Or ``set_robot_state(world_H_base, q, base_twist_world, v, gravity)`` (also valid for a
         fixed base: the base transform/twist are then ignored and only the gravity is applied).
         """
-        fast = self._state_kernel  # the common input, by kernel (made by a compiled cycle)
-        if fast is not None and len(args) == 2 and fast.joint_state(*args):
+        fast = self._state_kernel  # the common inputs, by kernel (made by a compiled cycle)
+        if fast is not None and (fast.joint_state(*args) if len(args) == 2 else
+                                 len(args) == 5 and fast.full_state(*args)):
             return
         self._require_model()
         state_input.set_joint_and_base_state(self, args)

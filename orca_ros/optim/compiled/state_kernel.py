@@ -16,8 +16,10 @@ The robot's state input by kernel: what :mod:`orca_ros.robot.state_input` does p
 
 A compiled cycle gives its robot this kernel (``RobotModel._state_kernel``): the common state
 inputs on a robot without continuous joints, ``set_configuration(q, v)`` (float64 vectors of the
-right sizes, any strides) and a fixed base's ``set_robot_state(q, v)`` (contiguous float64 arrays
-of the right sizes), are checked (finite; the base quaternion's norm) and written in one call
+right sizes, any strides), a fixed base's ``set_robot_state(q, v)`` and a floating base's
+``set_robot_state(world_H_base, q, base_twist, v, gravity)`` at the robot's gravity (contiguous
+float64 arrays of the right sizes), are checked (finite; the base quaternion's norm, the base
+rotation's orthonormality and sign) and written in one call
 (instead of several numpy calls, each with its Python overhead). A state it refuses, and every
 other input, takes the Python path, which names the fault.
 """
@@ -115,6 +117,77 @@ def joint_state(q, v, r):
     return _OK
 
 
+@njit
+def _quaternion(R, q):
+    """Write the unit quaternion of the rotation R into q[3:7] (x y z w; Eigen's conversion)."""
+    t = R[0, 0] + R[1, 1] + R[2, 2]
+    if t > 0.0:
+        t = math.sqrt(t + 1.0)
+        q[6] = 0.5 * t
+        t = 0.5 / t
+        q[3] = (R[2, 1] - R[1, 2]) * t
+        q[4] = (R[0, 2] - R[2, 0]) * t
+        q[5] = (R[1, 0] - R[0, 1]) * t
+        return
+    i = 0
+    if R[1, 1] > R[0, 0]:
+        i = 1
+    if R[2, 2] > R[i, i]:
+        i = 2
+    j = (i + 1) % 3
+    k = (j + 1) % 3
+    t = math.sqrt(R[i, i] - R[j, j] - R[k, k] + 1.0)
+    q[3 + i] = 0.5 * t
+    t = 0.5 / t
+    q[6] = (R[k, j] - R[j, k]) * t
+    q[3 + j] = (R[j, i] + R[i, j]) * t
+    q[3 + k] = (R[k, i] + R[i, k]) * t
+
+
+@njit
+def base_state(T, q, twist, v, r, world_H_base, base_twist):
+    """
+    Take a floating base's (world_H_base, q, base twist in world axes, v): 0 taken, 1 refused.
+
+    As ``state_input.set_joint_and_base_state`` (without the gravity, which the caller took):
+    every value finite, T's rotation block orthonormal to 1e-6 with determinant +1; Pinocchio's
+    q (position, quaternion, joints) and v (the twist in base axes, R^T twist, then the joints).
+    """
+    q_pin, v_pin, q_out, v_out = r.q_pin, r.v_pin, r.q_out, r.v_out
+    if not (_finite(q, v) and _finite(twist, T[3])):
+        return _REFUSED
+    for a in range(3):
+        if not _finite(T[a], T[a]):
+            return _REFUSED
+    for a in range(3):  # R R^T - I, as rotations.is_rotation
+        for b in range(3):
+            e = T[a, 0] * T[b, 0] + T[a, 1] * T[b, 1] + T[a, 2] * T[b, 2]
+            if not abs(e - (1.0 if a == b else 0.0)) <= 1e-6:
+                return _REFUSED
+    det = (T[0, 0] * (T[1, 1] * T[2, 2] - T[2, 1] * T[1, 2])
+           - T[0, 1] * (T[1, 0] * T[2, 2] - T[2, 0] * T[1, 2])
+           + T[0, 2] * (T[1, 0] * T[2, 1] - T[2, 0] * T[1, 1]))
+    if not det > 0.0:
+        return _REFUSED
+    for a in range(4):
+        for b in range(4):
+            world_H_base[a, b] = T[a, b]
+    for k in range(6):
+        base_twist[k] = twist[k]
+    for k in range(3):
+        q_pin[k] = T[k, 3]
+    _quaternion(T, q_pin)
+    for c in range(3):  # R^T twist: world axes -> base axes
+        v_pin[c] = twist[0] * T[0, c] + twist[1] * T[1, c] + twist[2] * T[2, c]
+        v_pin[3 + c] = twist[3] * T[0, c] + twist[4] * T[1, c] + twist[5] * T[2, c]
+    for k in range(q.shape[0]):
+        q_out[k] = q[k]
+        v_out[k] = v[k]
+        q_pin[7 + k] = q[k]
+        v_pin[6 + k] = v[k]
+    return _OK
+
+
 _F64 = np.dtype(np.float64)
 
 
@@ -156,6 +229,11 @@ class StateKernel:
         self.arrays = _robot_arrays(r._q_pin, r._v_pin, r._q, r._v, r.nbase, tol)
         self.take = entry(configuration, _strided(nq), _strided(nv), self.arrays)
         self._joint_state = entry(joint_state, r._q.copy(), r._v.copy(), self.arrays)
+        self._base_state = None
+        if self.simple and r.floating_base:
+            self._base_state = entry(base_state, np.eye(4), r._q.copy(), np.zeros(6),
+                                     r._v.copy(), self.arrays, r._world_H_base,
+                                     r._base_twist_world)
 
     def joint_state(self, q, v) -> bool:
         """Take a fixed base's (q, v): True when taken; False: the Python path's."""
@@ -165,6 +243,32 @@ class StateKernel:
         ) != _OK:
             return False
         r = self.robot
+        r._stamp += 1
+        r._initialized = True
+        return True
+
+    def full_state(self, T, q, twist, v, g) -> bool:
+        """
+        Take a floating base's ``(world_H_base, q, base_twist, v, gravity)``: True when taken.
+
+        Only with the gravity the robot has already (a new one is set on the Python path) and
+        C-contiguous float64 arrays of the right shapes; False: the Python path's (which names a
+        refused state).
+        """
+        r, n = self.robot, self.ndof
+        if self._base_state is None or not (
+            _fits(q, n) and _fits(v, n) and _fits(twist, 6) and type(T) is np.ndarray
+            and T.shape == (4, 4) and T.dtype == _F64 and T.flags.c_contiguous
+            and type(g) is np.ndarray and g.shape == (3,)
+        ):
+            return False
+        rg = r._gravity
+        if not (g[0] == rg[0] and g[1] == rg[1] and g[2] == rg[2]):
+            return False
+        if self._base_state(T, q, twist, v, self.arrays, r._world_H_base,
+                            r._base_twist_world) != _OK:
+            return False
+        r._base_from_q_pin = False
         r._stamp += 1
         r._initialized = True
         return True
