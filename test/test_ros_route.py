@@ -60,6 +60,9 @@ KEY_OF_MODULE = {
     # the MuJoCo world and mujoco_bridge only (issue 38): optional as viser; without it
     # mujoco_bridge says so in one line (test_mujoco_sim.py)
     'mujoco': 'optional pip',
+    # a Menagerie robot by name only (urdf_path: menagerie:<name>): without it that name is
+    # refused with the pip line (test_menagerie.py)
+    'mujoco_menagerie': 'optional pip',
 }
 
 
