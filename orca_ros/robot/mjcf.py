@@ -18,8 +18,8 @@ The MuJoCo Menagerie's robots exist only as MJCF. Pinocchio makes each body a fr
 and each hinge or slide joint a joint (with its ``armature``, which Pinocchio's mass matrix adds as
 MuJoCo's does); ``range`` gives the position limits. The torque limits: the joint's
 ``actuatorfrcrange``, and the ``forcerange`` of the actuators driving the joint (a joint
-transmission: |force| * |gear|), the least of them; that is where the Menagerie puts them (its
-UR5e: 150 and 28 Nm on its ``general`` actuators). MuJoCo's own parser reads the actuators
+transmission: |force| * |gear|), the least of them; that is where the Menagerie puts them (on
+its ``general`` actuators). MuJoCo's own parser reads the actuators
 (:class:`mujoco.MjSpec`: their defaults classes resolved, nothing compiled). MJCF has no velocity
 limits (infinite). The floating base: a ``freejoint`` on the root body, or one added at load
 (``floating_base``). What the parser refuses (an element it does not know, a file it cannot read)
