@@ -60,10 +60,11 @@ class Sections:
     def __init__(self, c):
         self.acc: dict = {}
         self._wrap(c.layout, 'update', 'layout')
-        for obj in c._updated:
+        cycle = c.cycle
+        for obj in cycle.objects:
             self._wrap(obj, 'update', f"{type(obj).__name__} '{obj.name}'")
-        self._wrap(c._plan, 'update', 'plan')
-        for p in c._problems:
+        self._wrap(cycle.plan, 'update', 'plan')
+        for p in cycle.levels.problems:
             self._wrap(p, 'build', 'build')
             self._wrap(p, 'solve', 'solve')
 

@@ -245,7 +245,8 @@ def test_pairs_entering_and_leaving_step_the_torques_by_at_most_2_nm(example_rob
     def each(k, c, col, redo):
         tau = c.get_joint_torque_command().copy()
         rows = {(a, b): i for i, (a, b, _) in enumerate(col.last_pairs)}
-        slack = {p: float(col.C[i] @ c._x - col.lb[i]) for p, i in rows.items()}
+        x = c.get_reduced_solution()
+        slack = {p: float(col.C[i] @ x - col.lb[i]) for p, i in rows.items()}
         entering = set(rows) - set(last)
         if last:
             leaving.extend(last[p] for p in set(last) - set(rows))

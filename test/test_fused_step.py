@@ -15,7 +15,7 @@
 The one-call cycle (optim/compiled/fused_step.py) against the compiled cycle's three calls.
 
 Controllers on the same arm see the same states and targets: one runs the one call inline
-(the controller's lean cycle), one through ``CompiledCycle.update``, one has its one-call path
+(the compiled cycle's lean route), one through ``CompiledCycle.update``, one has its one-call path
 taken away. Along a run whose problem turns infeasible and back, and whose locked joint is
 welded again (a new Pinocchio model and Data): the same return codes and the same torques,
 the one-call path taken on every cycle that starts warm. With levels below (strict and
@@ -64,23 +64,23 @@ def _controller(one_call: bool, lean: bool = True):
 
         def counting(ws):
             bind(ws)
-            step = fused._step
-            fused._step = lambda *a: calls.append(1) or step(*a)
-            if not lean:  # the controller's inline (lean) cycle taken away
+            step = fused.kernel
+            fused.kernel = lambda *a: calls.append(1) or step(*a)
+            if not lean:  # the lean route of CompiledCycle.run taken away
                 fused.lean = None
 
         fused.bind = counting
         counting(cc.ws)
     else:
         cc.fused = None
-    # the cycles that ran CompiledCycle.update (the others: the controller's lean cycle)
+    # the cycles that ran CompiledCycle.update (the others: the lean route of CompiledCycle.run)
     cc.updates, update = [], cc.update
     cc.update = lambda *a: cc.updates.append(1) or update(*a)
     return robot, c, ee, calls
 
 
 def test_the_one_call_cycle_equals_the_three_calls_through_failures_and_a_weld():
-    # the one call inline in the controller (lean) and through CompiledCycle.update, and
+    # the one call inline in CompiledCycle.run (lean) and through CompiledCycle.update, and
     # the three calls
     runs = [_controller(True), _controller(True, lean=False), _controller(False)]
     pose = runs[0][0].get_frame_pose('link_7').copy()
@@ -107,7 +107,7 @@ def test_the_one_call_cycle_equals_the_three_calls_through_failures_and_a_weld()
         target[:3, 3] += 0.1 * np.array([np.sin(3 * t), np.cos(2 * t) - 1.0, np.sin(t)])
         q = Q0 + 0.2 * np.sin(np.arange(1, 7) * 2.0 * t)
         v = 0.4 * np.cos(np.arange(1, 7) * 2.0 * t)
-        warm.append(runs[0][1].compiled_cycle.fused.backend._set_up)  # (DAQP's warm start)
+        warm.append(runs[0][1].compiled_cycle.fused.backend.warm)  # (DAQP's warm start)
         updates = len(runs[0][1].compiled_cycle.updates)
         out = []
         for robot, c, ee, _ in runs:
@@ -174,9 +174,9 @@ def test_levels_below_follow_the_one_call_first_level(strategy):
         cc = c.compiled_cycle
         assert cc.fused is not None and cc.cascade is not None, cc.describe()
         calls = []
-        if one_call:  # the first level by one call; in the lean cycle, every level below too
-            step, cs = cc.fused._step, cc.fused.cascade_step
-            cc.fused._step = lambda *a, step=step, calls=calls: calls.append(1) or step(*a)
+        if one_call:  # the first level by one call; in the lean route, every level below too
+            step, cs = cc.fused.kernel, cc.fused.cascade_step
+            cc.fused.kernel = lambda *a, step=step, calls=calls: calls.append(1) or step(*a)
             cs.run = lambda *a, run=cs.run, calls=calls: calls.append(2) or run(*a)
         else:
             cc.fused = None
@@ -193,7 +193,7 @@ def test_levels_below_follow_the_one_call_first_level(strategy):
         np.testing.assert_allclose(out[0], out[1], rtol=1e-12, atol=1e-12, err_msg=str(k))
         q, v = integrate(runs[0][0], q, v, out[0], 1e-3)
     assert len(runs[0][2]) == 299
-    # the controller's lean cycle, the levels below in the same kernel call, on every one but
+    # the lean route, the levels below in the same kernel call, on every one but
     # the first (which re-reads what the configuring cycle touched: nothing changed since)
     assert runs[0][2].count(2) == 298
     assert len(runs[0][1].compiled_cycle.updates) == 1

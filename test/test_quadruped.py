@@ -194,7 +194,7 @@ def test_equality_only_problem_with_contacts_matches_full_kkt(solver):
     reg = c.global_regularisation
     Z = lambda r, k: np.zeros((r, k))  # noqa: E731
     nu = (
-        robot._v_pin.copy()
+        robot.buffers.v_pin.copy()
     )  # generalized velocity (base twist in the base frame, joint velocities)
     blocks = [
         (1.0, np.hstack((Jb, Z(6, n), Z(6, nw))), a_b),
@@ -213,7 +213,7 @@ def test_equality_only_problem_with_contacts_matches_full_kkt(solver):
     A = np.vstack((np.hstack((M, -S_T, -Jc.T)), np.hstack((Jc, Z(nw, n), Z(nw, nw)))))
     # the existence condition brings a moving contact to rest: J nu_dot + J_dot nu = -k J nu
     k = min(feet[0].velocity_gain, 0.5 / 0.001)
-    b = np.concatenate((-h, -bc - k * (Jc @ robot._v_pin)))
+    b = np.concatenate((-h, -bc - k * (Jc @ robot.buffers.v_pin)))
     K = np.block([[H, A.T], [A, Z(A.shape[0], A.shape[0])]])
     chi = np.linalg.solve(K, np.concatenate((-g, b)))[: nv + n + nw]
     sol = c.get_solution()  # [nu_dot, base torque (0), tau, w]

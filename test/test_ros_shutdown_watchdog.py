@@ -151,11 +151,16 @@ def test_killed_controller_bridge_holds(tmp_path, simulator):
             f'killed at {v_kill:.3f} m/s: the end effector moved {moved * 1e3:.1f} mm, '
             f'{np.abs(window[-1][2]).max():.2g} rad/s 2 s later'
         )
-        # 20 ms without a command, a 50 ms fade into the hold, then braking from 0.2 m/s:
-        # measured 21.5 mm; 2.3x
-        assert moved < 0.05, (
+        # at most v_kill for the 20 ms without a command (command_timeout) and the 50 ms fade into
+        # the hold (hold_ramp), then braking at hold_damping 20 /s (1/20 s more at v_kill): 0.12 s
+        # at v_kill, with half again for the arm's acceleration within the fade (measured 0.11 to
+        # 0.14 s at v_kill). From the speed at the kill, not the 0.25 m/s cruise: the free-running
+        # simulation lags the wall clock on a loaded machine and the controller's wall-clock
+        # target ramp then drives the arm faster (killed at 1.0 m/s beside two burners)
+        bound = 1.5 * v_kill * (0.02 + 0.05 + 1.0 / 20.0)
+        assert moved < bound, (
             f'end effector moved {moved * 1e3:.0f} mm in the 2 s after the controller died '
-            f'(at {v_kill:.3f} m/s)'
+            f'(at {v_kill:.3f} m/s: {bound * 1e3:.0f} mm at most)'
         )
         # damped at 20 /s for ~2 s (e^-40 of the motion): round-off, measured 3e-15 rad/s
         rest = np.abs(window[-1][2]).max()

@@ -35,18 +35,19 @@ def _pair(urdf, floating=False):
     a, b = orca.RobotModel(), orca.RobotModel()
     for r in (a, b):
         r.load_model_from_file(urdf, floating_base=floating)
-    a._state_kernel = StateKernel(a, _QUATERNION_TOL)
+    a.buffers.state_kernel = StateKernel(a, _QUATERNION_TOL)
     return a, b
 
 
 def _same(a, b):
-    for name in ('_v_pin', '_q', '_v'):
-        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+    for name in ('v_pin', 'q', 'v'):
+        np.testing.assert_array_equal(getattr(a.buffers, name), getattr(b.buffers, name),
+                                      err_msg=name)
     # the base quaternion is normalised by a norm summed in another order than numpy's dot
     # (1 ulp apart); every other coordinate bit for bit
-    np.testing.assert_allclose(a._q_pin, b._q_pin, rtol=0.0, atol=4e-16)
+    np.testing.assert_allclose(a.buffers.q_pin, b.buffers.q_pin, rtol=0.0, atol=4e-16)
     joints = 7 if a.floating_base else 0
-    np.testing.assert_array_equal(a._q_pin[joints:], b._q_pin[joints:])
+    np.testing.assert_array_equal(a.buffers.q_pin[joints:], b.buffers.q_pin[joints:])
 
 
 def _random_configuration(model, rng):
@@ -105,19 +106,20 @@ def test_the_five_argument_state_equals_the_python_path(example_robot_urdf, rng)
             g = np.array([0.5, 0.0, -9.7])
         for r in (a, b):
             r.set_robot_state(T, q, twist, v, g)
-        np.testing.assert_array_equal(a._q, b._q)
-        np.testing.assert_array_equal(a._v, b._v)
-        np.testing.assert_array_equal(a._q_pin[7:], b._q_pin[7:])
-        np.testing.assert_array_equal(a._q_pin[:3], b._q_pin[:3])
-        np.testing.assert_allclose(a._q_pin[3:7], b._q_pin[3:7], rtol=0.0, atol=4e-16)
-        np.testing.assert_allclose(a._v_pin, b._v_pin, rtol=0.0, atol=1e-15)
+        np.testing.assert_array_equal(a.buffers.q, b.buffers.q)
+        np.testing.assert_array_equal(a.buffers.v, b.buffers.v)
+        np.testing.assert_array_equal(a.buffers.q_pin[7:], b.buffers.q_pin[7:])
+        np.testing.assert_array_equal(a.buffers.q_pin[:3], b.buffers.q_pin[:3])
+        np.testing.assert_allclose(a.buffers.q_pin[3:7], b.buffers.q_pin[3:7], rtol=0.0,
+                                   atol=4e-16)
+        np.testing.assert_allclose(a.buffers.v_pin, b.buffers.v_pin, rtol=0.0, atol=1e-15)
         np.testing.assert_array_equal(a.get_world_to_base_transform(), T)
         np.testing.assert_array_equal(a.get_base_velocity(), b.get_base_velocity())
         np.testing.assert_array_equal(a.get_gravity(), g)
         np.testing.assert_allclose(a.get_frame_pose('FL_FOOT'), b.get_frame_pose('FL_FOOT'),
                                    rtol=0.0, atol=1e-15)
     # the kernel took them (not the Python path): a state it refuses is the test below
-    assert a._state_kernel.full_state(T, q, twist, v, g)
+    assert a.buffers.state_kernel.full_state(T, q, twist, v, g)
 
 
 @pytest.mark.parametrize('fault', ['nan_pose', 'not_rotation', 'reflection', 'nan_twist'])
@@ -127,7 +129,7 @@ def test_a_refused_five_argument_state_is_named_and_leaves_the_previous_one(
     g = np.array([0.0, 0.0, -9.81])
     T, q, twist, v = _random_base_state(a.model, rng)
     a.set_robot_state(T, q, twist, v, g)
-    before = a._q_pin.copy(), a._v_pin.copy(), a._q.copy(), a._v.copy()
+    before = a.buffers.q_pin.copy(), a.buffers.v_pin.copy(), a.buffers.q.copy(), a.buffers.v.copy()
     bad_T, bad_twist = T.copy(), twist.copy()
     if fault == 'nan_pose':
         bad_T[1, 2] = np.nan
@@ -141,10 +143,10 @@ def test_a_refused_five_argument_state_is_named_and_leaves_the_previous_one(
     else:
         bad_twist[4] = np.inf
         match = 'NaN or infinite'
-    assert not a._state_kernel.full_state(bad_T, q, bad_twist, v, g)
+    assert not a.buffers.state_kernel.full_state(bad_T, q, bad_twist, v, g)
     with pytest.raises(ValueError, match=match):
         a.set_robot_state(bad_T, q, bad_twist, v, g)
-    for x, y in zip(before, (a._q_pin, a._v_pin, a._q, a._v)):
+    for x, y in zip(before, (a.buffers.q_pin, a.buffers.v_pin, a.buffers.q, a.buffers.v)):
         np.testing.assert_array_equal(x, y)
 
 
@@ -153,7 +155,7 @@ def test_refused_states_are_named_and_leave_the_previous_one(example_robot_urdf,
     a, _ = _pair(example_robot_urdf('solo_description/robots/solo12.urdf'), floating=True)
     q, v = _random_configuration(a.model, rng)
     a.set_configuration(q, v)
-    before = a._q_pin.copy(), a._v_pin.copy(), a._q.copy(), a._v.copy()
+    before = a.buffers.q_pin.copy(), a.buffers.v_pin.copy(), a.buffers.q.copy(), a.buffers.v.copy()
     bad_q, bad_v = q.copy(), v.copy()
     if fault == 'nan':
         bad_v[9] = np.nan
@@ -166,7 +168,7 @@ def test_refused_states_are_named_and_leave_the_previous_one(example_robot_urdf,
         match = 'quaternion norm'
     with pytest.raises(ValueError, match=match):
         a.set_configuration(bad_q, bad_v)
-    for x, y in zip(before, (a._q_pin, a._v_pin, a._q, a._v)):
+    for x, y in zip(before, (a.buffers.q_pin, a.buffers.v_pin, a.buffers.q, a.buffers.v)):
         np.testing.assert_array_equal(x, y)
 
 
@@ -201,10 +203,10 @@ def test_inputs_the_kernel_does_not_take_still_enter(lwr_urdf, example_robot_urd
         for r in (a, b):
             r.set_robot_state(qi, vi)
         _same(a, b)
-        np.testing.assert_array_equal(a._q, np.asarray(qi, dtype=float).ravel())
+        np.testing.assert_array_equal(a.buffers.q, np.asarray(qi, dtype=float).ravel())
     # continuous joints (cos/sin pairs): the Python path
     a, b = _pair(example_robot_urdf('kinova_description/robots/kinova.urdf'))
-    assert not a._q_simple
+    assert not a.buffers.q_simple
     q, v = rng.uniform(-1, 1, a.ndof), rng.standard_normal(a.ndof)
     for r in (a, b):
         r.set_robot_state(q, v)
@@ -217,8 +219,8 @@ def test_set_configuration_reads_any_float64_vector_by_its_strides(example_robot
     # (another dtype, 2-D, a list, big-endian) takes the Python path; each read as numpy reads it
     a, b = _pair(example_robot_urdf('panda_description/urdf/panda.urdf'))
     taken = []
-    take = a._state_kernel.take
-    a._state_kernel.take = lambda *args: taken.append(1) or take(*args)
+    take = a.buffers.state_kernel.take
+    a.buffers.state_kernel.take = lambda *args: taken.append(1) or take(*args)
     nq, nv = a.model.nq, a.model.nv
     for k, make in enumerate((
         lambda x: x.copy(),
@@ -237,9 +239,9 @@ def test_set_configuration_reads_any_float64_vector_by_its_strides(example_robot
             r.set_configuration(qi, vi)
         _same(a, b)
         tol = 1e-7 if k == 6 else 0.0  # float32
-        np.testing.assert_allclose(a._q_pin, q, rtol=tol, atol=tol)
-        np.testing.assert_allclose(a._v_pin, v, rtol=tol, atol=tol)
-        assert a._q_pin.shape == (nq,) and a._v_pin.shape == (nv,)
+        np.testing.assert_allclose(a.buffers.q_pin, q, rtol=tol, atol=tol)
+        np.testing.assert_allclose(a.buffers.v_pin, v, rtol=tol, atol=tol)
+        assert a.buffers.q_pin.shape == (nq,) and a.buffers.v_pin.shape == (nv,)
     assert len(taken) == 5  # the float64 vectors, and only they
 
 
@@ -260,12 +262,12 @@ def test_a_compiled_controller_gives_its_robot_the_kernel(lwr_urdf):
     robot = orca.RobotModel()
     robot.load_model_from_file(lwr_urdf)
     robot.set_robot_state(np.zeros(7), np.zeros(7))
-    assert robot._state_kernel is None
+    assert robot.buffers.state_kernel is None
     c = orca.Controller('c', robot)
     c.update(0.0, 1e-3)
-    assert isinstance(robot._state_kernel, StateKernel)
+    assert isinstance(robot.buffers.state_kernel, StateKernel)
     reference = orca.RobotModel()
     reference.load_model_from_file(lwr_urdf)
     reference.set_robot_state(np.zeros(7), np.zeros(7))
     orca.Controller('r', reference, compiled=False).update(0.0, 1e-3)
-    assert reference._state_kernel is None
+    assert reference.buffers.state_kernel is None

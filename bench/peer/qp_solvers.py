@@ -68,8 +68,8 @@ def snapshot(controller, robot) -> Captured:
     d = np.asarray(lay.variable_scale, float)
     H, g, M, lo, hi = to_solver_units(p.H, p.g, p.plan.M, p.plan.lo, p.plan.hi, d)
     return Captured(
-        robot._q_pin.copy(),
-        robot._v_pin.copy(),
+        robot.buffers.q_pin.copy(),
+        robot.buffers.v_pin.copy(),
         H,
         g,
         M,

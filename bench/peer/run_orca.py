@@ -150,7 +150,8 @@ def run(name, n_steps=None, solver=None, capture=None):
         if not ok:
             failures += 1
         if capture is not None:
-            capture.append((robot._q_pin.copy(), robot._v_pin.copy(), c.get_problem_at_level(0)))
+            buf = robot.buffers
+            capture.append((buf.q_pin.copy(), buf.v_pin.copy(), c.get_problem_at_level(0)))
         dv = c.get_solution()[: model.nv]
         v = v + S.DT * dv
         q = pin.integrate(model, q, S.DT * v)

@@ -57,15 +57,15 @@ class TaskBase(Watched):
         self.state = ActivationState.INIT
         self.ramp_duration = 0.0
         self._ramp_x = 0.0  # normalised ramp time in [0, 1]
-        self._ramp_factor = 0.0
+        self.ramp_factor = 0.0
         self._ramp_t0: float | None = None
         self._ramp_x0 = 0.0
         self._cb_activation: Callable[[], None] | None = None
         self._cb_activated: Callable[[], None] | None = None
         self._cb_deactivation: Callable[[], None] | None = None
         self._cb_deactivated: Callable[[], None] | None = None
-        self._cb_begin: Callable[[float, float], None] | None = None
-        self._cb_end: Callable[[float, float], None] | None = None
+        self.compute_begin_cb: Callable[[float, float], None] | None = None
+        self.compute_end_cb: Callable[[float, float], None] | None = None
 
     # -------------------------------------------------------------- configuration
     def set_robot_model(self, robot) -> None:
@@ -87,10 +87,10 @@ class TaskBase(Watched):
         self._cb_activated = cb
 
     def on_compute_begin_callback(self, cb: Callable[[float, float], None]) -> None:
-        self._cb_begin = cb
+        self.compute_begin_cb = cb
 
     def on_compute_end_callback(self, cb: Callable[[float, float], None]) -> None:
-        self._cb_end = cb
+        self.compute_end_cb = cb
 
     def on_deactivation_callback(self, cb: Callable[[], None]) -> None:
         self._cb_deactivation = cb
@@ -117,7 +117,7 @@ class TaskBase(Watched):
         return self.state not in _INACTIVE
 
     def get_ramp_value(self) -> float:
-        return self._ramp_factor
+        return self.ramp_factor
 
     def activate(self) -> bool:
         if self.state in (ActivationState.ACTIVATING, ActivationState.ACTIVATED):
@@ -139,7 +139,8 @@ class TaskBase(Watched):
             self._cb_deactivation()
         return True
 
-    def _step_ramp(self, t: float) -> None:
+    def step_ramp(self, t: float) -> None:
+        """Advance the activation ramp to time ``t``; finish the state change when it ends."""
         st = self.state
         if st is ActivationState.ACTIVATING:
             if self._ramp_t0 is None:
@@ -148,7 +149,7 @@ class TaskBase(Watched):
             x = 1.0 if T <= 0.0 else self._ramp_x0 + (t - self._ramp_t0) / T
             x = 1.0 if x >= 1.0 - _SNAP else x
             self._ramp_x = x
-            self._ramp_factor = smooth_ramp(x)
+            self.ramp_factor = smooth_ramp(x)
             if x >= 1.0:
                 self.state = ActivationState.ACTIVATED
                 if self._cb_activated is not None:
@@ -160,7 +161,7 @@ class TaskBase(Watched):
             x = 0.0 if T <= 0.0 else self._ramp_x0 - (t - self._ramp_t0) / T
             x = 0.0 if x <= _SNAP else x
             self._ramp_x = x
-            self._ramp_factor = smooth_ramp(x)
+            self.ramp_factor = smooth_ramp(x)
             if x <= 0.0:
                 self.state = ActivationState.DEACTIVATED
                 if self._cb_deactivated is not None:
@@ -169,24 +170,25 @@ class TaskBase(Watched):
     def update(self, current_time: float, dt: float) -> None:
         """Advance the life cycle and recompute this object's contribution for the robot state."""
         st = self.state
-        if st is ActivationState.ACTIVATED and self._cb_begin is None and self._cb_end is None:
+        if (st is ActivationState.ACTIVATED and self.compute_begin_cb is None
+                and self.compute_end_cb is None):
             self._update(current_time, dt)  # the steady state: nothing to ramp, nobody to call
             return
         if st in _INACTIVE:
             return
-        if self._cb_begin is not None:
-            self._cb_begin(current_time, dt)
-        self._step_ramp(current_time)
+        if self.compute_begin_cb is not None:
+            self.compute_begin_cb(current_time, dt)
+        self.step_ramp(current_time)
         # the deactivating step may have just finished: the contribution is then zero, nothing to
         # compute
         if self.state not in _INACTIVE:
             self._update(current_time, dt)
-        if self._cb_end is not None:
-            self._cb_end(current_time, dt)
+        if self.compute_end_cb is not None:
+            self.compute_end_cb(current_time, dt)
 
     def _update(self, current_time: float, dt: float) -> None:
         raise NotImplementedError
 
     def describe(self) -> str:
-        state = f'{self.state.value}, ramp {self._ramp_factor:.3f}'
+        state = f'{self.state.value}, ramp {self.ramp_factor:.3f}'
         return f"{type(self).__name__} '{self.name}' [{state}]"

@@ -51,7 +51,7 @@ class BilateralContact(ContactBase):
         return 0  # no inequality: only the existence condition and the free wrench
 
     def relative_terms(self):
-        _, J, _, bias = self.robot.world_frame_terms(self._fid)
+        _, J, _, bias = self.robot.world_frame_terms(self.fid)
         if self._other_fid is None:
             return J, bias
         _, Jb, _, bias_b = self.robot.world_frame_terms(self._other_fid)

@@ -150,8 +150,9 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
     def update(self, current_time: float, dt: float) -> None:
         """Recompute the rows: by the kernels straight away in the steady state."""
         if (self._kernels is not None and self.state is ActivationState.ACTIVATED
-                and self._cb_begin is None and self._cb_end is None and not self._moving):
-            self.robot._update_terms()  # (the compiled cycle's pass: nothing to do)
+                and self.compute_begin_cb is None and self.compute_end_cb is None
+                and not self._moving):
+            self.robot.update_terms()  # (the compiled cycle's pass: nothing to do)
             if self._by_kernels(dt):
                 if self.found[0] != self._told[0]:
                     self._tell_found(current_time)
@@ -259,7 +260,7 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         self.kept_bounds()  # the rows' pairs numbered as now (an obstacle added: renumbered)
         for i in range(self._m):
             k = int(self._sel[i])
-            if index is not None and k >= 0 and index in geom._pairs[k]:
+            if index is not None and k >= 0 and index in geom.pairs[k]:
                 self._leaving.append((self.C[i].copy(), float(self.lb[i])))
         geom.remove_obstacle(name)
 
@@ -324,11 +325,11 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         v, a = data.v[joint], data.a[joint]  # local frame; a: the drift (computeAllTerms)
         w = v.angular
         acc = R @ (a.linear + _cross(a.angular, rl) + _cross(w, v.linear + _cross(w, rl)))
-        return J, J @ robot._v_pin, acc
+        return J, J @ robot.buffers.v_pin, acc
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
         robot = self.robot
-        robot._update_terms()  # the joints' placements, Jacobians and drifts of this state
+        robot.update_terms()  # the joints' placements, Jacobians and drifts of this state
         geom = self.geometry
         for name, (pose, velocity, at) in self._moving.items():
             moved = pose.copy()

@@ -45,7 +45,7 @@ class RowRelaxation:
         """
         geom = self.geometry
         if self._kept_version != geom.version:
-            names = [geom.names_of(k) for k in range(len(geom._pairs))]
+            names = [geom.names_of(k) for k in range(len(geom.pairs))]
             size = max(1, len(names))
             kept, when, floor = np.zeros(size), np.full(size, -2, np.int64), np.zeros(size)
             if self._kept_version is not None:

@@ -82,7 +82,7 @@ class ContactBase(GenericConstraint):
         super().__init__(name)
         self.wrench_index = None
         self.frame = None
-        self._fid = None
+        self.fid = None
         self.wrench_lower = np.zeros(6)
         self.wrench_upper = np.zeros(6)
         self.existence = None
@@ -108,13 +108,13 @@ class ContactBase(GenericConstraint):
 
     def set_contact_frame(self, frame: str) -> None:
         if self.robot is not None:
-            self._fid = self.robot.get_frame_id(frame)
+            self.fid = self.robot.get_frame_id(frame)
         self.frame = frame
 
     def set_robot_model(self, robot) -> None:
         super().set_robot_model(robot)
         if self.frame is not None:
-            self._fid = robot.get_frame_id(self.frame)
+            self.fid = robot.get_frame_id(self.frame)
 
     def parts(self):
         """Constraints the controller adds together with this one."""
@@ -138,7 +138,7 @@ class ContactBase(GenericConstraint):
 
     def support_points(self) -> np.ndarray:
         """Return the contact's points in the world (support_point_count x 3)."""
-        T = self.robot.world_frame_placement(self._fid)
+        T = self.robot.world_frame_placement(self.fid)
         offset = getattr(self, 'offset', None)
         point = T[:3, 3] if offset is None else T[:3, 3] + T[:3, :3] @ offset
         return point[None, :]
@@ -280,11 +280,11 @@ class Contact(NormalForceRamp, ContactBase):
         return self.n_faces + 1
 
     def fill_wrench_jacobian(self, out: np.ndarray) -> None:
-        _, J, _, _ = point_terms(self.robot, self._fid, self.offset)
+        _, J, _, _ = point_terms(self.robot, self.fid, self.offset)
         out[:] = J
 
     def point_terms(self):
-        return point_terms(self.robot, self._fid, self.offset)
+        return point_terms(self.robot, self.fid, self.offset)
 
     existence_rows = 3
 
@@ -312,7 +312,7 @@ class Contact(NormalForceRamp, ContactBase):
             self.wrench_lower[3:], self.wrench_upper[3:] = 0.0, 0.0
             self._written_C, self._written_faces = self.C, self._faces
         bound = self.normal_force_bound()
-        self.lb[nf] = min(self.minimum_normal_force * self._ramp_factor, bound)
+        self.lb[nf] = min(self.minimum_normal_force * self.ramp_factor, bound)
         self.ub[nf] = bound
         self.settle_ramp()
 
@@ -339,7 +339,7 @@ class ContactExistenceCondition(GenericConstraint):
         return self.contact.existence_rows
 
     def update(self, current_time: float, dt: float) -> None:
-        self.state, self._ramp_factor = (
+        self.state, self.ramp_factor = (
             self.contact.state,
             self.contact.get_ramp_value(),
         )  # mirrors it

@@ -45,20 +45,20 @@ class _SymmetricLimitsMixin:
                 f"constraint '{self.name}': lower limit above upper limit at joints "
                 f'{np.flatnonzero(lo > hi).tolist()}'
             )
-        self._limits = (lo, hi)
+        self.limits = (lo, hi)
 
     def get_limits(self):
-        if self._limits is None:
+        if self.limits is None:
             return None
-        return self._limits[0].copy(), self._limits[1].copy()
+        return self.limits[0].copy(), self.limits[1].copy()
 
     def _default_limits(self):
         return None
 
     def set_robot_model(self, robot) -> None:
         super().set_robot_model(robot)
-        if self._limits is None:
-            self._limits = self._default_limits()
+        if self.limits is None:
+            self.limits = self._default_limits()
 
 
 class JointTorqueLimitConstraint(_SymmetricLimitsMixin, GenericConstraint):
@@ -66,7 +66,7 @@ class JointTorqueLimitConstraint(_SymmetricLimitsMixin, GenericConstraint):
 
     def __init__(self, name: str):
         super().__init__(name)
-        self._limits = None
+        self.limits = None
 
     def rows(self) -> int:
         return self.layout.ndof
@@ -79,7 +79,7 @@ class JointTorqueLimitConstraint(_SymmetricLimitsMixin, GenericConstraint):
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
         lay = self.layout
         self.C[:] = lay.T
-        lo, hi = self._limits
+        lo, hi = self.limits
         np.subtract(lo, lay.t0, out=self.lb)
         np.subtract(hi, lay.t0, out=self.ub)
 
@@ -87,7 +87,7 @@ class JointTorqueLimitConstraint(_SymmetricLimitsMixin, GenericConstraint):
 class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
     def __init__(self, name: str, horizon: float = 0.05, max_acceleration: float = 5.0):
         super().__init__(name)
-        self._limits = None
+        self.limits = None
         self._bound = None  # ViableBound of both sides, made at the first update after a change
         self.set_horizon(horizon)
         self.set_max_acceleration(max_acceleration)
@@ -117,7 +117,7 @@ class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
         return self.robot.get_joint_position_limits()
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
-        q, v = self.robot._q, self.robot._v
+        q, v = self.robot.buffers.q, self.robot.buffers.v
         n = q.size
         vb = self._bound
         if vb is None or vb.size != 2 * n:
@@ -125,7 +125,7 @@ class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
             vb = self._bound = ViableBound(2 * n)
             vb.set_acceleration(np.concatenate([np.broadcast_to(self.max_acceleration, n)] * 2))
             self._room, self._vel, self._out = np.zeros(2 * n), np.zeros(2 * n), np.zeros(2 * n)
-        lo, hi = self._limits
+        lo, hi = self.limits
         room, vel, out = self._room, self._vel, self._out
         np.subtract(hi, q, out=room[:n])
         np.subtract(q, lo, out=room[n:])
@@ -139,7 +139,7 @@ class JointPositionLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
 class JointVelocityLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
     def __init__(self, name: str, horizon: float = 0.01):
         super().__init__(name)
-        self._limits = None
+        self.limits = None
         self.set_horizon(horizon)
 
     def set_horizon(self, horizon: float) -> None:
@@ -160,8 +160,8 @@ class JointVelocityLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint):
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
         h = max(self.horizon, dt)
-        v = self.robot._v
-        lo, hi = self._limits
+        v = self.robot.buffers.v
+        lo, hi = self.limits
         np.multiply(lo - v, 1.0 / h, out=self.lb)
         np.multiply(hi - v, 1.0 / h, out=self.ub)
 
@@ -173,11 +173,11 @@ class JointAccelerationLimitConstraint(_SymmetricLimitsMixin, JointBoxConstraint
 
     def __init__(self, name: str):
         super().__init__(name)
-        self._limits = None
+        self.limits = None
 
     def _default_limits(self):
         n = self.robot.get_nr_of_degrees_of_freedom()
         return np.full(n, -np.inf), np.full(n, np.inf)
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
-        self.lb[:], self.ub[:] = self._limits
+        self.lb[:], self.ub[:] = self.limits

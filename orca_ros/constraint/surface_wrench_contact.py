@@ -136,22 +136,22 @@ class SurfaceContact(NormalForceRamp, ContactBase):
 
     def support_points(self) -> np.ndarray:
         """Return the sole's corners in the world (n x 3)."""
-        T = self.robot.world_frame_placement(self._fid)
+        T = self.robot.world_frame_placement(self.fid)
         return self.points @ T[:3, :3].T + T[:3, 3]
 
     def contact_normal_world(self) -> np.ndarray:
-        return self.robot.world_frame_terms(self._fid)[0][:3, 2]
+        return self.robot.world_frame_terms(self.fid)[0][:3, 2]
 
     def existence_terms(self):
-        _, J, _, bias = self.robot.world_frame_terms(self._fid)
+        _, J, _, bias = self.robot.world_frame_terms(self.fid)
         return J, bias
 
     def fill_wrench_jacobian(self, out: np.ndarray) -> None:
-        out[:] = self.robot.world_frame_terms(self._fid)[1]
+        out[:] = self.robot.world_frame_terms(self.fid)[1]
 
     def _update_constraint_function(self, current_time: float, dt: float) -> None:
         ws = self.wrench_slice()
-        R = self.robot.world_frame_terms(self._fid)[0][:3, :3]
+        R = self.robot.world_frame_terms(self.fid)[0][:3, :3]
         k = self.faces_local.shape[0]
         C = self.C
         # faces in world axes: F_local [R^T f; R^T m] (one product with blockdiag(R^T, R^T))

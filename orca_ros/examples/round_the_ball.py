@@ -108,7 +108,7 @@ def run(with_constraint: bool) -> dict:
     geom = sweep.col.geometry if sweep.col else CollisionGeometry(robot, sweep.srdf)
     if sweep.col is None:
         geom.add_obstacle('ball', 'sphere', [0.1], ball)
-    with_ball = [k for k in range(len(geom._pairs)) if geom.obstacles['ball'] in geom._pairs[k]]
+    with_ball = [k for k in range(len(geom.pairs)) if geom.obstacles['ball'] in geom.pairs[k]]
     data = model.createData()
     q, v = sweep.Q0.copy(), np.zeros(model.nv)
     out = {'hand': [], 'reference': [], 'distance': [], 'tau': [], 'ball': ball[:3, 3],
@@ -122,7 +122,7 @@ def run(with_constraint: bool) -> dict:
         out['tau'].append(tau[:7])
         out['reference'].append(T[:3, 3])
         out['hand'].append(robot.get_frame_pose('panda_hand')[:3, 3])
-        pin.forwardKinematics(model, data, robot._q_pin)
+        pin.forwardKinematics(model, data, robot.buffers.q_pin)
         pin.updateGeometryPlacements(model, data, geom.geom_model, geom.geom_data)
         out['distance'].append(min(pin.computeDistance(geom.geom_model, geom.geom_data, p)
                                    .min_distance for p in with_ball))

@@ -14,10 +14,14 @@
 """
 The whole-body controller: tasks + constraints -> one QP per cycle -> joint torques.
 
-Every ``update(t, dt)``: the robot terms are refreshed once, each task and constraint recomputes
-its matrices, the problem is assembled into preallocated arrays and solved (warm-started). Adding
-or removing a task/constraint marks the structure dirty; the problem (sizes, solver, sparsity) is
-rebuilt at the next update only then.
+One class with explicit parts: the objects (:class:`~.task_registry.TaskRegistry`), the variables'
+layout (:class:`~.problem_layout.ProblemLayout`), the priorities between levels
+(:class:`~.generalized.GeneralizedPriorities`), the solution and command
+(:class:`~.solution_output.SolutionOutput`) and the cycle of the current configuration
+(:class:`~.reference_cycle.ReferenceCycle`, or the compiled one made from it). Adding or removing
+a task or constraint marks the structure changed: the configuration (rows stacked, levels'
+problems, solvers set up, kernels lowered) is made again at the next update only then.
+``update(t, dt)`` runs the cycle once and makes the command: the solution's, or the safe one.
 """
 
 from __future__ import annotations
@@ -27,23 +31,19 @@ from typing import Callable
 
 import numpy as np
 
-from .cycle_plan import CyclePlan
 from .describe import describe_controller
 from .diagnosis import diagnose
 from .generalized import GeneralizedPriorities
 from .lower_level_problem import DEFAULT_LOWER_LEVEL_DAMPING
-from .priority_levels import PriorityLevels, tasks_by_level
-from .priority_settings import PrioritySettingsMixin
 from .problem_layout import ProblemLayout
+from .reference_cycle import ReferenceCycle
 from .resolution_strategy import ResolutionStrategy
-from .solution_output import SolutionOutputMixin
-from .solver_budget import SolverBudgetMixin
+from .solution_output import SolutionOutput
 from .solvers import QPSolver, resolve_solver, ReturnCode
-from .task_registry import TaskRegistryMixin
+from .task_registry import TaskRegistry
 from .weighted_problem import WeightedProblem
 from ..constraint.dynamics_equation_constraint import DynamicsEquationConstraint
 from ..constraint.generic_constraint import GenericConstraint
-from ..safety.safe_command import SafeCommand
 from ..task.generic_task import GenericTask
 from ..task.regularisation_task import RegularisationTask
 from ..utils.logger import get_logger
@@ -52,14 +52,13 @@ from ..utils.optional_import import MissingDependency
 _LOG = get_logger('controller')
 _SUCCESS = ReturnCode.SUCCESS
 _now = time.perf_counter  # (the deadline's clock: the solvers', the kernels')
+_said_no_numba = []  # once per process: numba missing, the reference cycle runs
 
 
-class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin,
-                 SolutionOutputMixin):
+class Controller:
     #: time budget of a new controller's cycles [s]; None: one control period (the dt of each
     #: update). Offline users (tests judging physics, batch simulations) may raise it for all.
     default_time_budget: float | None = None
-    _warned_no_numba = False
 
     def __init__(
         self,
@@ -84,47 +83,111 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin,
         if self.solver_fallback and log_solver_fallback:
             _LOG.warning(self.solver_fallback)
         self.layout = ProblemLayout(robot)
-        # the cycle by numba kernels (optim/compiled/); False: the reference path, in Python
+        # the cycle by numba kernels (optim/compiled/); False: the reference cycle, in Python
         self.compiled = bool(compiled)
-        self.compiled_cycle = None
-        self._tasks: list[GenericTask] = []
-        self._constraints: list[GenericConstraint] = []
-        self._problems: list[WeightedProblem] = []
-        self._references: list[
-            WeightedProblem | None
-        ] = []  # GENERALIZED: weighted reference per level
-        self._level_tasks: list[list[GenericTask]] = []  # the user tasks of each level
+        self.cycle: ReferenceCycle | None = None  # made at the first update after a change
         self.priorities = GeneralizedPriorities()
-        self._dirty = True
+        self.output = SolutionOutput(robot, self.layout)
+        # always present, always active: a small regularisation and the equation of motion
+        self.global_regularisation = RegularisationTask('GlobalRegularisation')
+        self.dynamics_constraint = DynamicsEquationConstraint('DynamicsEquation')
+        self.registry = TaskRegistry(name, robot, self.layout,
+                                     (self.global_regularisation, self.dynamics_constraint),
+                                     self.output.resize)
         self.dropped_levels = 0  # lower priority levels dropped because they could not be solved
         self._solution_found = False
         self._return_code = ReturnCode.NOT_SOLVED
-        self._remove_gravity = False
-        self._remove_coriolis = False
         self._update_cb: Callable[[float, float], None] | None = None
         self._time_budget: float | None = self.default_time_budget
         self._max_iterations: int | None = None  # None: each solver's default
         self._lower_damping = DEFAULT_LOWER_LEVEL_DAMPING
-        self._levels: PriorityLevels | None = None
-        n = self.layout.ndof
-        self._tau = np.zeros(n)
-        self._tau_cmd = np.zeros(n)
-        self._acc = np.zeros(self.layout.nv)
-        self._x = np.zeros(self.layout.nx)
-        # a failed cycle's command (SolutionOutputMixin._command_safe): the node's defaults.
-        # None: the caller sends its own after a failed update (the node: its SafeCommand also
-        # covers stale states and holds), and a failed cycle leaves the command as it was
-        self.safe_command: SafeCommand | None = SafeCommand(robot, damping=10.0, ramp=0.2)
-        # always present, always active: the equation of motion and a small regularisation
-        self.global_regularisation = RegularisationTask('GlobalRegularisation')
-        self.dynamics_constraint = DynamicsEquationConstraint('DynamicsEquation')
-        self._internal = (self.global_regularisation, self.dynamics_constraint)
-        self._attach(self.global_regularisation)
-        self._attach(self.dynamics_constraint)
-        self._tasks.append(self.global_regularisation)
-        self._constraints.append(self.dynamics_constraint)
-        for obj in self._internal:
-            obj.activate()
+
+    # -------------------------------------------------------------- configuration
+    def _configure(self) -> None:
+        """Make the configuration and its cycle: compiled where it can be, else the reference."""
+        reference = ReferenceCycle(self.name, self.registry, self.layout,
+                                   self.resolution_strategy, self.solver, self._lower_damping,
+                                   self.priorities, self.output)
+        self.cycle = (self._compile(reference) if self.compiled else None) or reference
+        self.registry.dirty = False
+
+    def _compile(self, reference):
+        """Lower the reference cycle into the compiled one (None: numba is missing)."""
+        try:
+            from .compiled import CompiledCycle  # noqa: PLC0415 - numba only when compiled
+
+            cycle = CompiledCycle(reference)
+        except MissingDependency as exc:
+            if not _said_no_numba:
+                _LOG.warning('%s: the reference path runs (slower)', exc)
+                _said_no_numba.append(True)
+            return None
+        _LOG.debug("controller '%s': %s", self.name, cycle.describe())
+        return cycle
+
+    @property
+    def compiled_cycle(self):
+        """Return the compiled cycle (None: not configured yet, or the reference cycle runs)."""
+        cycle = self.cycle
+        return None if cycle is None or isinstance(cycle, ReferenceCycle) else cycle
+
+    def _levels(self):
+        """Return the configuration's priority levels (configured first if it changed)."""
+        if self.registry.dirty:
+            self._configure()
+        return self.cycle.levels
+
+    def get_problem_at_level(self, level: int = 0) -> WeightedProblem:
+        """Return the QP of priority level ``level`` (its per-level solution is ``.x``)."""
+        for p in self._levels().problems:
+            if p.level == level:
+                return p
+        raise KeyError(
+            f"controller '{self.name}': no priority level {level} (levels: {self.get_levels()})"
+        )
+
+    def get_levels(self) -> list[int]:
+        """Priority levels of the current problem stack (one entry for ONE_LEVEL_WEIGHTED)."""
+        return [p.level for p in self._levels().problems]
+
+    def get_level_tasks(self) -> list[list[GenericTask]]:
+        """Return the user tasks of each priority level, highest first."""
+        return [list(own) for own in self._levels().level_tasks]
+
+    # -------------------------------------------------------------- the cycle
+    def update(self, current_time: float, dt: float) -> bool:
+        """
+        Recompute everything for the robot's current state and solve.
+
+        True when a solution was found: the command (:meth:`get_joint_torque_command`) is the
+        solution's. False: no solution (:meth:`get_return_code` says why, :meth:`diagnose` which
+        constraints conflict) and the command is the safe one (:meth:`command_is_safe`),
+        g(q) - M(q) k_d v clipped to the URDF's torque limits (g left out where the drives
+        compensate gravity: :meth:`remove_gravity_torques_from_solution`), the last good command
+        fading into it over the ramp from the first failed cycle on (``current_time`` measures the
+        fade; :meth:`set_safe_command`, :class:`~orca_ros.safety.SafeCommand`).
+        """
+        self._solution_found = False
+        budget = self._time_budget
+        deadline = _now() + (dt if budget is None else budget)
+        if self.registry.dirty:  # configuration: solvers set up, their solves not time-bounded
+            self._configure()
+            deadline = None
+        code, dropped = self.cycle.run(current_time, dt, deadline, self._max_iterations)
+        self.dropped_levels += dropped
+        out = self.output
+        if code is _SUCCESS:
+            if out.remove_gravity or out.remove_coriolis:
+                out.finish_command()
+        else:  # the safe command; its fade starts anew at a failure after a success
+            out.brake(current_time, self._return_code is _SUCCESS)
+            _LOG.debug("controller '%s': no solution at t=%.4f (%s)", self.name, current_time,
+                       code.value)
+        self._return_code = code
+        self._solution_found = found = code is _SUCCESS
+        if self._update_cb is not None:
+            self._update_cb(current_time, dt)
+        return found
 
     def set_update_callback(self, cb: Callable[[float, float], None]) -> None:
         """Set the callback called at the end of every update(t, dt)."""
@@ -132,57 +195,59 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin,
 
     on_update_callback = set_update_callback
 
-    def _configure(self) -> None:
+    def solution_found(self) -> bool:
+        return self._solution_found
+
+    def get_return_code(self) -> ReturnCode:
+        return self._return_code
+
+    def contacts_relaxed(self) -> bool:
+        """Tell whether the last cycle let the contacts slip (see optim/elastic_contacts.py)."""
+        return self.cycle is not None and self.cycle.levels.contacts_relaxed
+
+    # -------------------------------------------------------------- tasks and constraints
+    def add_task(self, task, name: str | None = None, level: int | None = None):
+        """Add a task instance, or build one from its class and name; returns the task."""
+        return self.registry.add_task(task, name, level)
+
+    def add_constraint(self, constraint, name: str | None = None):
         """
-        Compile the stack.
+        Add a constraint instance, or build one from its class and name; returns it.
 
-        One CyclePlan (stacked rows of every object) and the problem of each level.
+        A contact brings its wrench variables (6 more QP variables) and its existence condition.
         """
-        user = self.get_tasks()
-        _, level_tasks = tasks_by_level(user, self.resolution_strategy)
-        self._plan = CyclePlan(
-            self.layout, level_tasks, self.global_regularisation, self._constraints
-        )
-        stack = self._levels = PriorityLevels(
-            self._plan, user, self.resolution_strategy, self.solver, self._lower_damping
-        )
-        self._problems, self._references = stack.problems, stack.references
-        self._level_tasks = stack.level_tasks
-        # objects without rows for this robot have nothing to compute
-        self._updated = [
-            o
-            for o in self._tasks + self._constraints
-            if o.rows() > 0 or getattr(o, 'is_contact', False)
-        ]  # contacts: ramps
-        self.compiled_cycle = self._compile() if self.compiled else None
-        self._dirty = False
+        return self.registry.add_constraint(constraint, name)
 
-    def _compile(self):
-        """Lower the configuration into the compiled cycle (None: the reference path)."""
-        try:
-            from .compiled import CompiledCycle  # noqa: PLC0415 - numba only when compiled
+    def add_contact(self, contact):
+        """Add a contact (as add_constraint does for constraints)."""
+        if not getattr(contact, 'is_contact', False):
+            raise TypeError(f'add_contact expects a contact, got {type(contact).__name__}')
+        return self.registry.add_constraint(contact)
 
-            cycle = CompiledCycle(self, self._plan)
-        except MissingDependency as exc:
-            if not Controller._warned_no_numba:
-                _LOG.warning('%s: the reference path runs (slower)', exc)
-                Controller._warned_no_numba = True
-            return None
-        _LOG.debug("controller '%s': %s", self.name, cycle.describe())
-        return cycle
+    def get_contacts(self) -> list:
+        return list(self.layout.contacts)
 
-    def get_problem_at_level(self, level: int = 0) -> WeightedProblem:
-        """Return the QP of priority level ``level`` (its per-level solution is ``.x``)."""
-        if self._dirty:
-            self._configure()
-        for p in self._problems:
-            if p.level == level:
-                return p
-        raise KeyError(
-            f"controller '{self.name}': no priority level {level} (levels: {self.get_levels()})"
-        )
+    def remove_task(self, name: str) -> None:
+        self.registry.remove_task(name)
+        self.priorities.forget(name)
 
-    # -------------------------------------------------------------- activation
+    def remove_constraint(self, name: str) -> None:
+        self.registry.remove_constraint(name)
+
+    def get_task(self, name: str) -> GenericTask:
+        return self.registry.get_task(name)
+
+    def get_constraint(self, name: str) -> GenericConstraint:
+        return self.registry.get_constraint(name)
+
+    def get_tasks(self) -> list[GenericTask]:
+        """Return the user's tasks (the controller's global regularisation left out)."""
+        return self.registry.user_tasks()
+
+    def get_constraints(self) -> list[GenericConstraint]:
+        """Return the user's constraints (the equation of motion left out)."""
+        return self.registry.user_constraints()
+
     def activate_tasks_and_constraints(self) -> None:
         for obj in self.get_tasks() + self.get_constraints():
             obj.activate()
@@ -194,146 +259,151 @@ class Controller(TaskRegistryMixin, PrioritySettingsMixin, SolverBudgetMixin,
     def tasks_and_constraints_deactivated(self) -> bool:
         return all(o.is_deactivated() for o in self.get_tasks() + self.get_constraints())
 
-    # -------------------------------------------------------------- cycle
-    def update(self, current_time: float, dt: float) -> bool:
+    # -------------------------------------------------------------- between levels
+    def set_priority(self, high: str, low: str, value: float) -> None:
         """
-        Recompute everything for the robot's current state and solve.
+        GENERALIZED: the priority in [0, 1] of task ``high`` over task ``low``.
 
-        True when a solution was found: the command (:meth:`get_joint_torque_command`) is the
-        solution's. False: no solution (:meth:`get_return_code` says why, :meth:`diagnose` which
-        constraints conflict) and the command is the safe one (:meth:`command_is_safe`),
-        g(q) - M(q) k_d v clipped to the URDF's torque limits (g left out where the drives
-        compensate gravity: :meth:`remove_gravity_torques_from_solution`), the last good command
-        fading into it over the ramp from the first failed cycle on (``current_time`` measures the
-        fade; :meth:`set_safe_command`, :class:`~orca_ros.safety.SafeCommand`). The failure
-        branch does that work; a success restarts the fade for the next failure.
+        0 weighted, 1 strict; may change every cycle. ``high`` must sit on a higher level
+        (smaller number) than ``low``.
         """
-        self._solution_found = False
-        budget = self._time_budget
-        deadline = _now() + (dt if budget is None else budget)
-        if self._dirty:  # configuration: solvers set up, their solves not time-bounded
-            self._configure()
-            deadline = None
-        cc, levels = self.compiled_cycle, self._levels
-        fused = None  # the first level's code where the compiled cycle took one call
-        solved = None  # what every level's solve returned, where one call took them all
-        step = None if cc is None or self._dirty else cc.fused
-        lean = None if step is None else step.lean
-        if lean is not None:
-            watch, r, data, b, st, problem, frame, derive, model, crba, nle, world = lean
-        if (lean is not None and not watch.touched and r.data is data and b._state is st
-                and b._set_up):
-            # the lean cycle (FusedStep.bind says where): CompiledCycle.update and FusedStep
-            # inline, as they would run it, nothing having changed since the last cycle (no
-            # object touched, the same Pinocchio Data and DAQP state, DAQP warm)
-            if r._stamp != cc._pass_stamp and r._terms_stamp != r._stamp:
-                q = r._q_pin
-                crba(model, data, q, world)  # (terms.two_passes)
-                nle(model, data, q, r._v_pin)
-                derive[0] = 1  # the kernel derives the drifts
-                cc._pass_stamp = r._stamp
-            most = self._max_iterations or b.default_max_iterations
-            cstep = step.cascade_step
-            if cstep is not None:  # the levels below in the same call (CascadeStep, inline)
-                steady = not cstep.changed.touched
-                if not steady:
-                    cstep.write_modes()
-                flags, k, iters = cstep.run(cstep.frame, dt, deadline, most)
-                if k > cstep.n and steady:  # every level solved as the last cycle, written out
-                    b.iterations = iters
-                    if flags:
-                        cc.plan.box_conflicts += flags & 1
-                    return self._written_out(current_time, dt)
-                solved = cstep.took(flags, k, iters, deadline, most, self._max_iterations,
-                                    self.name, levels)
-                if solved is True:  # every level solved, written out: update's success
-                    return self._written_out(current_time, dt)
-            else:
-                flags, flag, iters, cap, ns = step._step(frame, dt, deadline, most)
-                if flag != 1:  # (b's budget: what a failure's handling reads)
-                    b.deadline, b.max_iterations = deadline, most
-                    fused = step.took(flags, flag, iters, cap, ns)
-                else:  # FusedStep.took_solved and _written_out, inline: with their two calls
-                    # the Panda's cycle in bench_tsid is measurably slower
-                    b.iterations = iters
-                    problem.return_code = fused = _SUCCESS
-                    problem.built_finite = True
-                    if flags:
-                        cc.plan.box_conflicts += flags & 1
-                if fused is _SUCCESS and cc.cascade is None:  # written out: update's success
-                    levels.contacts_relaxed = False
-                    self._return_code = _SUCCESS
-                    if self._remove_gravity or self._remove_coriolis:
-                        self._make_command()
-                    self._solution_found = True
-                    if self._update_cb is not None:
-                        self._update_cb(current_time, dt)
-                    return True
-        elif cc is not None:  # the layout's update included
-            fused = cc.update(current_time, dt, deadline, self._max_iterations)
-        else:
-            self.layout.update()
-            for obj in self._updated:
-                obj.update(current_time, dt)
-            self._plan.update()
-        if solved is not None:
-            problem, code, dropped = solved
-        elif fused is _SUCCESS and cc.cascade is None:  # solved and written out: cc.solve's
-            levels.contacts_relaxed = False
-            problem, code, dropped = None, fused, False
-        elif cc is not None and (cc.steady or fused is not None):  # every level by kernel
-            problem, code, dropped = cc.solve(levels, deadline, self._max_iterations, self.name,
-                                              fused)
-        else:
-            problem, code, dropped = levels.solve(
-                deadline, self._max_iterations, self.priorities, self.name
+        if self.resolution_strategy is not ResolutionStrategy.GENERALIZED:
+            raise ValueError(
+                f"controller '{self.name}': priority values need the GENERALIZED strategy "
+                f'(this one is {self.resolution_strategy.value})'
             )
-        self.dropped_levels += dropped
-        if code is _SUCCESS:
-            self._return_code = code
-            if problem is not None:  # (None: the one-call cycle wrote it out)
-                self._write_out(problem.x, cc)
-            if self._remove_gravity or self._remove_coriolis:
-                self._make_command()
-            self._solution_found = True
-        else:  # the safe command; its fade starts anew at a failure after a success
-            self._command_safe(current_time, self._return_code is _SUCCESS)
-            self._return_code = code
-            _LOG.debug(
-                "controller '%s': no solution at t=%.4f (%s)", self.name, current_time, code.value
+        th, tl = self.get_task(high), self.get_task(low)
+        if not th.level < tl.level:
+            raise ValueError(
+                f"set_priority('{high}', '{low}'): '{high}' (level {th.level}) must be on a "
+                f"higher level than '{low}' (level {tl.level})"
             )
-        if self._update_cb is not None:
-            self._update_cb(current_time, dt)
-        return self._solution_found
+        self.priorities.set(high, low, value)
 
-    def _written_out(self, current_time: float, dt: float) -> bool:
-        """Finish a cycle whose kernel solved every level and wrote the solution out: True."""
-        self._return_code = _SUCCESS
-        if self._remove_gravity or self._remove_coriolis:
-            self._make_command()
-        self._solution_found = True
-        if self._update_cb is not None:
-            self._update_cb(current_time, dt)
-        return True
+    def set_priority_matrix(self, names, matrix) -> None:
+        """
+        GENERALIZED: matrix[i][j] = priority of task names[i] over names[j].
 
-    def get_levels(self) -> list[int]:
-        """Priority levels of the current problem stack (one entry for ONE_LEVEL_WEIGHTED)."""
-        if self._dirty:
-            self._configure()
-        return [p.level for p in self._problems]
+        Only entries with level(i) < level(j) are read; the rest must be left at 0 or 1.
+        """
+        m = np.asarray(matrix, dtype=float)
+        if m.shape != (len(names), len(names)):
+            raise ValueError(f'priority matrix must be {len(names)}x{len(names)}, got {m.shape}')
+        for i, hi in enumerate(names):
+            for j, lo in enumerate(names):
+                if self.get_task(hi).level < self.get_task(lo).level:
+                    self.set_priority(hi, lo, m[i, j])
 
-    def solution_found(self) -> bool:
-        return self._solution_found
+    def get_priority(self, high: str, low: str) -> float:
+        return self.priorities.get(high, low)
 
-    def get_return_code(self) -> ReturnCode:
-        return self._return_code
+    def set_lower_level_damping(self, mu: float) -> None:
+        """
+        Damp every level below the first in time: + mu W ||x - x_prev||^2 (0: off; default 10).
 
-    def contacts_relaxed(self) -> bool:
-        """Tell whether the last cycle let the contacts slip (see optim/elastic_contacts.py)."""
-        return self._levels is not None and self._levels.contacts_relaxed
+        W: the level's own weights; see :meth:`LowerLevelProblem.set_temporal_damping`.
+        """
+        if self.cycle is not None:
+            self.cycle.levels.set_temporal_damping(mu)
+        self._lower_damping = float(mu)
 
+    # -------------------------------------------------------------- the solves' budget
+    def set_solver_budget(
+        self, time_budget: float | None = None, max_iterations: int | None = None
+    ) -> None:
+        """
+        Bound every cycle's solves.
+
+        ``time_budget`` seconds for the whole cycle (None: one control period, the dt given to
+        update) and at most ``max_iterations`` solver iterations per solve (None: the solver's
+        default). A problem the solvers cannot solve within the budget fails with its ReturnCode.
+        """
+        if time_budget is not None and not (np.isfinite(time_budget) and time_budget > 0.0):
+            raise ValueError(
+                f"controller '{self.name}': time budget must be > 0 s, got {time_budget}"
+            )
+        if max_iterations is not None and int(max_iterations) < 1:
+            raise ValueError(
+                f"controller '{self.name}': max_iterations must be >= 1, got {max_iterations}"
+            )
+        self._time_budget = None if time_budget is None else float(time_budget)
+        self._max_iterations = None if max_iterations is None else int(max_iterations)
+
+    def get_solver_budget(self) -> tuple[float | None, int | None]:
+        return self._time_budget, self._max_iterations
+
+    # -------------------------------------------------------------- the solution and command
+    def remove_gravity_torques_from_solution(self, do_remove: bool) -> None:
+        """
+        Subtract g(q) from the torque command (for robots whose drives compensate gravity).
+
+        The safe command of a failed cycle then leaves g(q) out too.
+        """
+        self.output.set_remove_gravity(do_remove)
+
+    def remove_coriolis_torques_from_solution(self, do_remove: bool) -> None:
+        self.output.remove_coriolis = bool(do_remove)
+
+    @property
+    def safe_command(self):
+        """Return the failed cycle's command (a SafeCommand); None: the caller sends its own."""
+        return self.output.safe_command
+
+    @safe_command.setter
+    def safe_command(self, value) -> None:
+        self.output.safe_command = value
+
+    def set_safe_command(self, damping: float, ramp: float) -> None:
+        """
+        Set the failed cycle's command: damping k_d [1/s] and fade time ``ramp`` [s].
+
+        tau = g(q) - M(q) k_d v: each joint's speed decays as exp(-k_d t) once the fade is over
+        (defaults 10 /s and 0.2 s, as the node's ``safe_damping`` and ``safe_ramp``).
+        """
+        self.output.set_safe_command(damping, ramp, self.name)
+
+    def command_is_safe(self) -> bool:
+        """Tell whether the command is the safe one (the last ``update`` failed)."""
+        safe = self.output.safe_command
+        return self._return_code is not _SUCCESS and safe is not None and safe.active
+
+    def get_joint_torque_command(self) -> np.ndarray:
+        """
+        Joint torques to send (gravity/Coriolis removed if asked).
+
+        After a successful ``update``, the solution's; after a failed one, the safe command
+        (:meth:`command_is_safe`): bounded by the URDF's torque limits, braking every joint with
+        the same time constant 1/k_d, faded in from the last good command.
+        """
+        return self.output.command.copy()
+
+    def get_joint_acceleration_command(self) -> np.ndarray:
+        return self.output.acc[self.layout.joint_acc].copy()
+
+    def get_reduced_solution(self) -> np.ndarray:
+        """Return the solver's own variables x = [nu_dot, wrenches]."""
+        return self.output.x.copy()
+
+    def get_solution(self) -> np.ndarray:
+        """
+        Return [base acc, joint acc, base torque, joint torque, wrenches].
+
+        The base parts are empty for a fixed base; torques before any gravity/Coriolis removal.
+        """
+        return self.output.full_solution()
+
+    def compute_kkt_torques(self) -> np.ndarray:
+        """
+        Torques of the equality-only problem (no inequality or box constraints).
+
+        From the matrices of the last update: a usable fallback when the QP has no solution.
+        """
+        x = self._levels().problems[-1].solve_equality_only()
+        return self.layout.T @ x + self.layout.t0
+
+    # -------------------------------------------------------------- inspection
     def diagnose(self):
-        """Name the constraints that conflict in the last cycle (:mod:`.diagnosis`; ms)."""
+        """Name the constraints that conflict in the last cycle (:mod:`.diagnosis`)."""
         return diagnose(self)
 
     def print(self) -> None:  # noqa: A003 (ORCA API name)

@@ -131,7 +131,7 @@ class CyclePlan:
             self.l[rows] = c.lb
             self.u[rows] = c.ub
             c.C, c.lb, c.ub = self.C[rows], self.l[rows], self.u[rows]
-        self._eq_rows, self._in_rows = eq_rows, in_rows
+        self.eq_rows, self.in_rows = eq_rows, in_rows
         self._relaxed = {id(c): False for c in self.eq + self.ineq}
         # joint box constraints' bounds, packed (views rebound): soft ones first, then hard
         boxes = self.soft_box + self.hard_box
@@ -167,14 +167,14 @@ class CyclePlan:
                 self._diagonal_keys[i] = key
             np.multiply(ws, t.f, out=self.wsf[id(t)])
         relaxed = self._relaxed
-        for c, rows in zip(self.eq, self._eq_rows):
+        for c, rows in zip(self.eq, self.eq_rows):
             if c.is_computing():
                 relaxed[id(c)] = False
             elif not relaxed[id(c)]:
                 self.A[rows] = 0.0
                 self.b[rows] = 0.0
                 relaxed[id(c)] = True
-        for c, rows in zip(self.ineq, self._in_rows):
+        for c, rows in zip(self.ineq, self.in_rows):
             if c.is_computing():
                 relaxed[id(c)] = False
             elif not relaxed[id(c)]:

@@ -31,18 +31,18 @@ def describe_controller(c) -> str:
         f"Controller '{c.name}' ({c.resolution_strategy.value}, solver {c.solver.value}); "
         f"robot '{c.robot.name}' {lay.ndof} dof, {'floating' if lay.nbase else 'fixed'} base, "
         f'QP variables {lay.nx}',
-        f'  last return code: {c._return_code.value}',
+        f'  last return code: {c.get_return_code().value}',
     ]
     if c.resolution_strategy is ResolutionStrategy.ONE_LEVEL_WEIGHTED:
         lines.append('  tasks (one weighted level):')
-        lines += [f'    {t.describe()}' for t in c._tasks]
+        lines += [f'    {t.describe()}' for t in c.registry.tasks]
     else:
-        c.get_levels()  # configures the stack if it changed
+        problems = [c.get_problem_at_level(lev) for lev in c.get_levels()]
         lines.append(
-            f'  tasks, {len(c._problems)} priority level(s), highest first '
+            f'  tasks, {len(problems)} priority level(s), highest first '
             f'(+ {c.global_regularisation.describe()} in each):'
         )
-        for p, own in zip(c._problems, c._level_tasks):
+        for p, own in zip(problems, c.get_level_tasks()):
             state = p.return_code.value
             lines.append(f'    level {p.level} [{state}]:')
             lines += [f'      {t.describe()}' for t in own]
@@ -55,9 +55,9 @@ def describe_controller(c) -> str:
                 )
             )
     lines.append('  constraints:')
-    lines += [f'    {c.describe()}' for c in c._constraints]
-    if c._solution_found:
+    lines += [f'    {k.describe()}' for k in c.registry.constraints]
+    if c.solution_found():
         with np.printoptions(precision=4, suppress=True):
             lines.append(f'  joint acceleration command: {c.get_joint_acceleration_command()}')
-            lines.append(f'  joint torque command:       {c._tau_cmd}')
+            lines.append(f'  joint torque command:       {c.get_joint_torque_command()}')
     return '\n'.join(lines)

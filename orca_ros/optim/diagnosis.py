@@ -72,10 +72,10 @@ class _Groups:
         self.A, self.b = plan.A.copy(), plan.b.copy()
         self.C, self.l, self.u = plan.C.copy(), plan.l.copy(), plan.u.copy()
         self.groups = []  # (name, kind, payload)
-        for c, rows in zip(plan.eq, plan._eq_rows):
+        for c, rows in zip(plan.eq, plan.eq_rows):
             if c.is_computing():
                 self.groups.append((c.name, 'eq', rows))
-        for c, rows in zip(plan.ineq, plan._in_rows):
+        for c, rows in zip(plan.ineq, plan.in_rows):
             if c.is_computing():
                 self.groups.append((c.name, 'in', rows))
         for c in plan.soft_box + plan.hard_box:

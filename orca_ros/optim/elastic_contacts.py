@@ -76,14 +76,14 @@ class ElasticContacts:
         layout = plan.layout
         nx, n_in = layout.nx, plan.n_in
         soft = np.zeros(plan.n_eq, dtype=bool)
-        for c, rows in zip(plan.eq, plan._eq_rows):
+        for c, rows in zip(plan.eq, plan.eq_rows):
             if isinstance(c, ContactExistenceCondition):
                 soft[rows] = True
         self.available = bool(soft.any())
         self._soft = np.flatnonzero(soft)
         self._hard = np.flatnonzero(~soft)
         elastic = np.zeros(n_in, dtype=bool)
-        for c, rows in zip(plan.ineq, plan._in_rows):
+        for c, rows in zip(plan.ineq, plan.in_rows):
             elastic[rows] = bool(getattr(c, 'elastic', False))
         rows_in = np.flatnonzero(elastic)
         self._joints = np.arange(nx)[layout.joint_acc] if plan.soft_box else np.zeros(0, int)

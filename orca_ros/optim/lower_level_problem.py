@@ -102,17 +102,17 @@ class LowerLevelProblem(WeightedProblem):
         ne, ni = self.n_eq, self.n_in
         if solver is QPSolver.DAQP:
             self.locked_backend = make_backend(solver, nx, ne, ni, scale=scale)
-            self._null_space = None
+            self.null_space = None
             self._retry = None  # a null-space solve for the cycles DAQP fails
             # DAQP's stacked layout, written in place: M = [A; C] (self.A, where lock() writes the
             # lock rows, is a view on it), lo = [lbox'; 0; l'], hi = [ubox'; 0; u']
-            self._M = np.zeros((ne + ni, nx))
-            self._M[:ne] = self.A
-            self.A = self._M[:ne]
-            self._lo, self._hi = np.zeros(nx + ne + ni), np.zeros(nx + ne + ni)
+            self.stacked_M = np.zeros((ne + ni, nx))
+            self.stacked_M[:ne] = self.A
+            self.A = self.stacked_M[:ne]
+            self.stacked_lo, self.stacked_hi = np.zeros(nx + ne + ni), np.zeros(nx + ne + ni)
         else:
-            self._null_space = NullSpaceStep(solver, nx, ne, ni, scale)
-            self.locked_backend = self._null_space.backend
+            self.null_space = NullSpaceStep(solver, nx, ne, ni, scale)
+            self.locked_backend = self.null_space.backend
         # banded form: variables z (nx), equalities A_eq z = 0, rows [C; locks], bounds on z
         self._Ab = np.zeros((self.n_eq_constraints, nx))
         self._bb = np.zeros(self.n_eq_constraints)
@@ -128,7 +128,7 @@ class LowerLevelProblem(WeightedProblem):
         self.reference_x: np.ndarray | None = None  # every priority 0: the solution (bands())
         self._Q = np.zeros((n_lock, nx))
         # temporal damping per variable, in the solver's units (wrenches in the robot's weight)
-        self._damp_w = 1.0 / np.square(scale)
+        self.damping_w = 1.0 / np.square(scale)
         # temporal damping mu W ||x - x_prev||^2 (see set_temporal_damping); x_prev: this level's
         # solution of the previous cycle, which x holds while _prev_ok[0] (x is written by the
         # level's solves only; the compiled cycle's kernels read the flag too)
@@ -136,7 +136,7 @@ class LowerLevelProblem(WeightedProblem):
         # what the damping is relative to this cycle: the summed weights of the level's own tasks
         # (ramps left out), times its priority alpha under GENERALIZED (set by the cascade)
         self.damping_scale = 1.0
-        self._prev_ok = np.zeros(1, dtype=np.int64)
+        self.prev_ok = np.zeros(1, dtype=np.int64)
 
     def set_temporal_damping(self, mu: float) -> None:
         """
@@ -164,7 +164,7 @@ class LowerLevelProblem(WeightedProblem):
             raise ValueError(f'temporal damping must be finite and >= 0, got {mu}')
         self.temporal_damping = mu
         if mu == 0.0:
-            self._prev_ok[0] = 0
+            self.prev_ok[0] = 0
 
     def backends(self):
         return [self.locked_backend, self.banded_backend]
@@ -237,21 +237,21 @@ class LowerLevelProblem(WeightedProblem):
         if self.band is not None and self.reference_x is not None:  # (GENERALIZED, alpha 0)
             np.copyto(self.x, self.reference_x)
             if self.temporal_damping > 0.0:
-                self._prev_ok[0] = 1
+                self.prev_ok[0] = 1
             self.return_code = ReturnCode.SUCCESS
             return self.return_code
         mu = self.temporal_damping * self.damping_scale
         # the first cycle (or after a failure): towards the level above's solution, so that a
         # level starts from what the robot is already doing instead of jumping to its optimum
-        prev = self.x if self._prev_ok[0] else self.x_ref
+        prev = self.x if self.prev_ok[0] else self.x_ref
         if mu > 0.0:  # + mu ||(x - x_prev) / d||^2 (the solver's units), undone after the solve
-            mw = mu * self._damp_w
+            mw = mu * self.damping_w
             self._diag += mw
             self.g -= mw * prev
         try:
             if self.band is not None:
                 code, dx = self._solve_banded()
-            elif self._null_space is None:
+            elif self.null_space is None:
                 code, dx = self._solve_locked_stacked()
             else:
                 code, dx = self._solve_locked()
@@ -265,7 +265,7 @@ class LowerLevelProblem(WeightedProblem):
             else:
                 code = ReturnCode.NON_FINITE_SOLUTION
         if self.temporal_damping > 0.0:  # after a failure, start again from the next solution
-            self._prev_ok[0] = code is ReturnCode.SUCCESS
+            self.prev_ok[0] = code is ReturnCode.SUCCESS
         self.return_code = code
         return code
 
@@ -313,23 +313,23 @@ class LowerLevelProblem(WeightedProblem):
         if n_in:
             self._relaxed(self.l, self.u, self.C @ self.x_ref, self._lb[:n_in], self._ub[:n_in])
         self._relaxed(self.lbox, self.ubox, self.x_ref, self._lboxb, self._uboxb)
-        return self._null_space.solve(
+        return self.null_space.solve(
             self.H, g, self.A, self.C, self._lb[:n_in], self._ub[:n_in], self._lboxb, self._uboxb
         )
 
     def _solve_locked_stacked(self):
         """Solve the strict form in DAQP's layout: nothing copied but the inequality rows."""
         nx, ne, ni = self.layout.nx, self.n_eq, self.n_in
-        lo, hi = self._lo, self._hi
+        lo, hi = self.stacked_lo, self.stacked_hi
         g = self.H @ self.x_ref + self.g
         if ni:
-            self._M[ne:] = self.C
+            self.stacked_M[ne:] = self.C
             self._relaxed(self.l, self.u, self.C @ self.x_ref, lo[nx + ne:], hi[nx + ne:])
         self._relaxed(self.lbox, self.ubox, self.x_ref, lo[:nx], hi[:nx])
-        orthonormalise_locks(self._M[self.n_eq_constraints: ne])
+        orthonormalise_locks(self.stacked_M[self.n_eq_constraints: ne])
         np.dot(self.A[self.n_eq_constraints:], self.x_ref, out=self.b[self.n_eq_constraints:])
         b = self.locked_backend
-        code = b.solve_stacked(self.H, g, self._M, lo, hi)
+        code = b.solve_stacked(self.H, g, self.stacked_M, lo, hi)
         if code is not ReturnCode.SUCCESS:
             return self.solve_stacked_in_null_space(self.H, g)
         return code, b.x
@@ -351,7 +351,7 @@ class LowerLevelProblem(WeightedProblem):
             )
         self._retry.backend.deadline = self.locked_backend.deadline
         self._retry.backend.max_iterations = self.locked_backend.max_iterations
-        lo, hi, M = self._lo, self._hi, self._M
+        lo, hi, M = self.stacked_lo, self.stacked_hi, self.stacked_M
         return self._retry.solve(
             H, g, M[:ne], M[ne:], lo[nx + ne:], hi[nx + ne:], lo[:nx], hi[:nx]
         )

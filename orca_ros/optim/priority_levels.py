@@ -149,7 +149,7 @@ class PriorityLevels:
                     # nothing to optimise here: the solution above stands. The level has no
                     # solution of its own this cycle: the next it solves is damped towards the
                     # solution above, not towards one from before it was switched off
-                    problem._prev_ok[0] = 0
+                    problem.prev_ok[0] = 0
                     continue
                 band = None
                 if self.references[i] is not None:

@@ -56,10 +56,10 @@ class ProblemLayout:
         self.wrench = slice(self.nv, self.nx)
         self.variable_scale = np.ones(self.nx)
         self.variable_scale[self.wrench] = self.weight_scale()
-        self._T = np.zeros((self.ndof, self.nx))
-        self._t0 = np.zeros(self.ndof)
-        self.T = self._T
-        self.t0 = self._t0
+        self.T_own = np.zeros((self.ndof, self.nx))
+        self.t0_own = np.zeros(self.ndof)
+        self.T = self.T_own
+        self.t0 = self.t0_own
 
     def weight_scale(self) -> float:
         """Return the robot's weight m g [N] (g = 9.81 whatever the gravity set), at least 1 N."""
@@ -99,10 +99,10 @@ class ProblemLayout:
             self.T = M[nb:] if nb else M
             self.t0 = n[nb:] if nb else n
         else:
-            self._T[:, : self.nv] = M[nb:]
-            self._T[:, self.nv:] = -self.wrench_jacobian[:, nb:].T
-            self._t0[:] = n[nb:]
-            self.T, self.t0 = self._T, self._t0
+            self.T_own[:, : self.nv] = M[nb:]
+            self.T_own[:, self.nv:] = -self.wrench_jacobian[:, nb:].T
+            self.t0_own[:] = n[nb:]
+            self.T, self.t0 = self.T_own, self.t0_own
 
     def torques(self, x: np.ndarray) -> np.ndarray:
         return self.T @ x + self.t0

@@ -12,104 +12,79 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-The controller's solution and command: written out after a solve, read by the caller.
+The controller's solution and command: buffers written after a solve, read by the caller.
 
-A part of :class:`.controller.Controller` (a mixin: the same object). The solution x of the last
-level is turned into accelerations, torques, the command (gravity and Coriolis torques removed
-where asked) and the contacts' wrenches (:meth:`_write_out`, or by the compiled cycle's kernel);
-the getters return copies. A failed cycle's command is the safe one (:meth:`_command_safe`, the
-controller's :class:`~orca_ros.safety.SafeCommand`): a loop that sends the command whatever
+A part of :class:`.controller.Controller`. A cycle that solved writes the last level's solution x
+into these buffers (:meth:`write_out` on the reference path; the compiled cycle's kernel writes
+the same arrays): the accelerations nu_dot = x[acc], the torques tau = T x + t0 (the layout's
+torque map), the command (tau, gravity and Coriolis torques removed where the drives compensate
+them: :meth:`finish_command`) and each contact's wrench. A failed cycle's command is the safe one
+(:meth:`brake`, :class:`~orca_ros.safety.SafeCommand`): a loop that sends the command whatever
 ``update`` returned brakes the robot instead of holding a torque that no longer fits its state.
+
+Contract: ``x`` (nx), ``acc`` (nv), ``tau`` and ``command`` (ndof) keep their identity while the
+layout keeps its variables (the compiled cycle's kernels hold them); :meth:`resize` replaces
+``x`` after a re-layout (a contact added or removed), which configures the cycle again.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .solvers import ReturnCode
 from ..safety.safe_command import SafeCommand
 
 
-class SolutionOutputMixin:
-    """The solution's arrays (``_x``, ``_acc``, ``_tau``, ``_tau_cmd``) and what reads them."""
+class SolutionOutput:
+    """The last solution's buffers and the command made from it (see the module)."""
 
-    def remove_gravity_torques_from_solution(self, do_remove: bool) -> None:
-        """
-        Subtract g(q) from the torque command (for robots whose drives compensate gravity).
+    def __init__(self, robot, layout):
+        self.robot, self.layout = robot, layout
+        self.x = np.zeros(layout.nx)
+        self.acc = np.zeros(layout.nv)
+        self.tau = np.zeros(layout.ndof)
+        self.command = np.zeros(layout.ndof)
+        self.remove_gravity = False
+        self.remove_coriolis = False
+        # the failed cycle's command, the node's defaults. None: the caller sends its own after a
+        # failed update (the node: its SafeCommand also covers stale states and holds), and a
+        # failed cycle leaves the command as it was
+        self.safe_command: SafeCommand | None = SafeCommand(robot, damping=10.0, ramp=0.2)
 
-        The safe command of a failed cycle then leaves g(q) out too.
-        """
-        self._remove_gravity = bool(do_remove)
+    def resize(self) -> None:
+        """Size ``x`` for the layout's variables (after a contact was added or removed)."""
+        self.x = np.zeros(self.layout.nx)
+
+    def set_remove_gravity(self, do_remove: bool) -> None:
+        """Leave g(q) out of the command, the safe command's included."""
+        self.remove_gravity = bool(do_remove)
         if self.safe_command is not None:
-            self.safe_command.gravity_by_hardware = self._remove_gravity
+            self.safe_command.gravity_by_hardware = self.remove_gravity
 
-    def remove_coriolis_torques_from_solution(self, do_remove: bool) -> None:
-        self._remove_coriolis = bool(do_remove)
-
-    def _write_out(self, x, cc) -> None:
-        """Take the solution x: accelerations, torques, command, the contacts' wrenches."""
-        if cc is not None:
-            step = cc.fused
-            if step is not None:  # its frame holds these arrays: two arguments instead of six
-                step._finish(step.frame, x)
-            else:
-                cc.finish(x, self._x, self._acc, self._tau, self._tau_cmd)
-            return
+    def write_out(self, x) -> None:
+        """Take the solution x (the reference path): accelerations, torques, command, wrenches."""
         lay = self.layout
-        self._x[:] = x
-        self._acc[:] = x[lay.acc]
-        np.dot(lay.T, x, out=self._tau)
-        self._tau += lay.t0
-        self._tau_cmd[:] = self._tau
+        self.x[:] = x
+        self.acc[:] = x[lay.acc]
+        np.dot(lay.T, x, out=self.tau)
+        self.tau += lay.t0
+        self.command[:] = self.tau
         for c in lay.contacts:
             c.record_solution(x)
 
-    def _make_command(self) -> None:
-        cmd = self._tau_cmd
-        cmd[:] = self._tau
-        if self._remove_gravity or self._remove_coriolis:
-            nb = self.layout.nbase
-            g = self.robot.get_generalized_gravity_torques()[nb:]
-            if self._remove_gravity:
-                cmd -= g
-            if self._remove_coriolis:
-                cmd -= self.robot.get_generalized_gravity_and_coriolis_torques()[nb:] - g
+    def finish_command(self) -> None:
+        """Remove g(q) and the Coriolis torques from the command where asked (after write-out)."""
+        cmd = self.command
+        cmd[:] = self.tau
+        nb = self.layout.nbase
+        g = self.robot.get_generalized_gravity_torques()[nb:]
+        if self.remove_gravity:
+            cmd -= g
+        if self.remove_coriolis:
+            cmd -= self.robot.get_generalized_gravity_and_coriolis_torques()[nb:] - g
 
-    def get_joint_torque_command(self) -> np.ndarray:
+    def brake(self, t: float, after_success: bool) -> None:
         """
-        Joint torques to send (gravity/Coriolis removed if asked).
-
-        After a successful ``update``, the solution's; after a failed one, the safe command
-        (:meth:`command_is_safe`): bounded by the URDF's torque limits, braking every joint with
-        the same time constant 1/k_d, faded in from the last good command.
-        """
-        return self._tau_cmd.copy()
-
-    def command_is_safe(self) -> bool:
-        """Tell whether the command is the safe one (the last ``update`` failed)."""
-        safe = self.safe_command
-        return self._return_code is not ReturnCode.SUCCESS and safe is not None and safe.active
-
-    def set_safe_command(self, damping: float, ramp: float) -> None:
-        """
-        Set the failed cycle's command: damping k_d [1/s] and fade time ``ramp`` [s].
-
-        tau = g(q) - M(q) k_d v: each joint's speed decays as exp(-k_d t) once the fade is over
-        (defaults 10 /s and 0.2 s, as the node's ``safe_damping`` and ``safe_ramp``).
-        """
-        for what, x in (('damping', damping), ('ramp', ramp)):
-            if not (np.isfinite(x) and x >= 0.0):
-                raise ValueError(
-                    f"controller '{self.name}': safe command {what} must be finite and >= 0, "
-                    f'got {x}'
-                )
-        if self.safe_command is None:  # (switched off by a caller with its own: on again)
-            self.safe_command = SafeCommand(self.robot, self._remove_gravity)
-        self.safe_command.damping, self.safe_command.ramp = float(damping), float(ramp)
-
-    def _command_safe(self, t: float, after_success: bool) -> None:
-        """
-        Make the failed cycle's command the safe one at the robot's state (the cycle's).
+        Make a failed cycle's command the safe one at the robot's state (the cycle's).
 
         ``after_success``: the cycle before succeeded, the fade starts anew from its command.
         """
@@ -118,38 +93,21 @@ class SolutionOutputMixin:
             return
         if after_success:
             safe.reset()
-        self._tau_cmd[:] = safe.compute_at_state(t, self._tau_cmd)
+        self.command[:] = safe.compute_at_state(t, self.command)
 
-    def get_joint_acceleration_command(self) -> np.ndarray:
-        return self._acc[self.layout.joint_acc].copy()
+    def set_safe_command(self, damping: float, ramp: float, owner: str) -> None:
+        """Set the safe command's damping k_d [1/s] and fade time [s] (``owner`` names errors)."""
+        for what, value in (('damping', damping), ('ramp', ramp)):
+            if not (np.isfinite(value) and value >= 0.0):
+                raise ValueError(
+                    f"controller '{owner}': safe command {what} must be finite and >= 0, "
+                    f'got {value}'
+                )
+        if self.safe_command is None:  # (switched off by a caller with its own: on again)
+            self.safe_command = SafeCommand(self.robot, self.remove_gravity)
+        self.safe_command.damping, self.safe_command.ramp = float(damping), float(ramp)
 
-    def get_reduced_solution(self) -> np.ndarray:
-        """Return the solver's own variables x = [nu_dot, wrenches]."""
-        return self._x.copy()
-
-    def get_solution(self) -> np.ndarray:
-        """
-        Return the full solution [base acc, joint acc, base torque, joint torque, wrenches].
-
-        The base parts are empty for a fixed base.
-
-        Torques here are the full dynamic torques, before any gravity/Coriolis removal.
-        """
+    def full_solution(self) -> np.ndarray:
+        """Return [base acc, joint acc, base torque (zeros), joint torque, wrenches]."""
         lay = self.layout
-        nb = lay.nbase
-        return np.concatenate((self._acc, np.zeros(nb), self._tau, self._x[lay.wrench]))
-
-    def compute_kkt_torques(self) -> np.ndarray:
-        """
-        Return the torques of the equality-only problem.
-
-        Tasks and equalities, no inequality or box constraints, from the matrices of the last
-        update.
-
-        A usable fallback when the QP has no solution.
-        """
-        if self._dirty:
-            self._configure()
-        x = self._problems[-1].solve_equality_only()
-        tau = self.layout.T @ x + self.layout.t0
-        return tau
+        return np.concatenate((self.acc, np.zeros(lay.nbase), self.tau, self.x[lay.wrench]))

@@ -79,7 +79,7 @@ class WeightedProblem:
             for t in [plan.regularisation] + list(diagonal_tasks)
         ]
         self.backend = self._make_backend()
-        self._stacked = not self.locked and hasattr(self.backend, 'solve_stacked')
+        self.stacked = not self.locked and hasattr(self.backend, 'solve_stacked')
         self.x = np.zeros(nx)
         self.return_code = ReturnCode.NOT_SOLVED
         # True when the compiled cycle forms H and g (optim/compiled/plan_assembly.py), which
@@ -153,7 +153,7 @@ class WeightedProblem:
         ):
             self.return_code = ReturnCode.NON_FINITE_PROBLEM
             return self.return_code
-        if self._stacked:  # the plan's arrays are already in the solver's layout
+        if self.stacked:  # the plan's arrays are already in the solver's layout
             code = self.backend.solve_stacked(
                 self.H, self.g, self.plan.M, self.plan.lo, self.plan.hi
             )

@@ -28,29 +28,32 @@ import pinocchio as pin
 
 
 class CentroidalMomentum:
+    """The terms of one robot model; ``h``, ``Ag``, ``drift``: the arrays terms() fills."""
+
     def __init__(self, robot):
         self.robot = robot
         self.data = robot.model.createData()
         self._stamp = -1
         nv = robot.model.nv
-        self._h, self._drift = np.zeros(6), np.zeros(6)
-        self._Ag = np.zeros((6, nv))
+        self.h, self.drift = np.zeros(6), np.zeros(6)
+        self.Ag = np.zeros((6, nv))
 
     @staticmethod
     def of(robot) -> 'CentroidalMomentum':
         """Return the robot's own, made on first use (again for a new model: a re-weld)."""
-        if robot._centroidal is None:
-            robot._centroidal = CentroidalMomentum(robot)
-        return robot._centroidal
+        buf = robot.buffers
+        if buf.centroidal is None:
+            buf.centroidal = CentroidalMomentum(robot)
+        return buf.centroidal
 
     def terms(self):
         """(h 6, A_g 6 x nv, drift A_g_dot nu 6), cached per state; arrays reused."""
-        robot = self.robot
-        if self._stamp != robot._stamp:
-            q, v = robot._q_pin, robot._v_pin
-            dAg = pin.dccrba(robot.model, self.data, q, v)
-            self._Ag[:] = self.data.Ag
-            np.dot(self._Ag, v, out=self._h)
-            np.dot(dAg, v, out=self._drift)
-            self._stamp = robot._stamp
-        return self._h, self._Ag, self._drift
+        buf = self.robot.buffers
+        if self._stamp != buf.stamp:
+            q, v = buf.q_pin, buf.v_pin
+            dAg = pin.dccrba(self.robot.model, self.data, q, v)
+            self.Ag[:] = self.data.Ag
+            np.dot(self.Ag, v, out=self.h)
+            np.dot(dAg, v, out=self.drift)
+            self._stamp = buf.stamp
+        return self.h, self.Ag, self.drift

@@ -225,7 +225,7 @@ class CollisionGeometry:
         cp = gm.collisionPairs
         self._first = np.array([p.first for p in cp], dtype=int)
         self._second = np.array([p.second for p in cp], dtype=int)
-        self._pairs = [(int(p.first), int(p.second)) for p in cp]  # Python ints: coal's indices
+        self.pairs = [(int(p.first), int(p.second)) for p in cp]  # Python ints: coal's indices
         self.velocity = np.zeros((gm.ngeoms, 3))  # each geometry's: a moving obstacle's, else 0
         # each geometry's placement on its joint [R column-major, p] (the kernels place them)
         self.placement = np.array([_flat(g.placement) for g in gm.geometryObjects]).reshape(-1, 12)
@@ -393,18 +393,18 @@ class CollisionGeometry:
 
     def velocity_of(self, pair: int) -> tuple[np.ndarray | None, np.ndarray | None]:
         """Return the linear velocities of the pair's moving obstacles (None for other bodies)."""
-        objects, (i, j) = self.geom_model.geometryObjects, self._pairs[pair]
+        objects, (i, j) = self.geom_model.geometryObjects, self.pairs[pair]
         return tuple(self.velocities.get(objects[k].name[len('obstacle:'):])
                      if k >= self.n_robot else None for k in (i, j))
 
     def is_self_pair(self, pair: int) -> bool:
         """Tell whether a pair is two of the robot's bodies (else a body and an obstacle)."""
-        return self._pairs[pair][1] < self.n_robot
+        return self.pairs[pair][1] < self.n_robot
 
     def joints_of(self, pair: int) -> tuple[int, int]:
-        objects, (i, j) = self.geom_model.geometryObjects, self._pairs[pair]
+        objects, (i, j) = self.geom_model.geometryObjects, self.pairs[pair]
         return objects[i].parentJoint, objects[j].parentJoint
 
     def names_of(self, pair: int) -> tuple[str, str]:
-        objects, (i, j) = self.geom_model.geometryObjects, self._pairs[pair]
+        objects, (i, j) = self.geom_model.geometryObjects, self.pairs[pair]
         return objects[i].name, objects[j].name

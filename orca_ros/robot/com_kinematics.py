@@ -40,13 +40,14 @@ class ComKinematics:
     def terms(self):
         """(position 3, Jacobian 3 x nv, velocity 3, bias acceleration 3) in world axes."""
         robot = self.robot
-        if self._stamp == robot._stamp and self._terms is not None:
+        buf = robot.buffers
+        if self._stamp == buf.stamp and self._terms is not None:
             return self._terms
-        robot._update_terms()  # computeAllTerms: com, vcom and Jcom in the main Data
+        robot.update_terms()  # computeAllTerms: com, vcom and Jcom in the main Data
         main = robot.data
-        pin.centerOfMass(robot.model, self.data, robot._q_pin, robot._v_pin, self._zero)
+        pin.centerOfMass(robot.model, self.data, buf.q_pin, buf.v_pin, self._zero)
         self._terms = (
             main.com[0].copy(), main.Jcom.copy(), main.vcom[0].copy(), self.data.acom[0].copy()
         )
-        self._stamp = robot._stamp
+        self._stamp = buf.stamp
         return self._terms

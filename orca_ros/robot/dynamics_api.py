@@ -15,7 +15,7 @@
 Whole-body dynamics of a :class:`~orca_ros.robot.robot_model.RobotModel` at its current state.
 
 The mass matrix, gravity, Coriolis, centre of mass and centroidal momentum. Each getter reads
-Pinocchio's terms of the current state, computed once per state (the robot's ``_update_terms``;
+Pinocchio's terms of the current state, computed once per state (the robot's ``update_terms``;
 its own Data for gravity alone).
 """
 
@@ -33,24 +33,25 @@ class DynamicsApiMixin:
 
     def get_mass_matrix(self) -> np.ndarray:
         """Generalized mass matrix (nv x nv); a view valid until the next state change."""
-        self._update_terms()
+        self.update_terms()
         return self.data.M
 
     def get_generalized_gravity_and_coriolis_torques(self) -> np.ndarray:
-        self._update_terms()
+        self.update_terms()
         return self.data.nle
 
     def get_generalized_gravity_torques(self) -> np.ndarray:
-        if not self._initialized:
+        buf = self.buffers
+        if buf is None or not buf.initialized:
             self._require_model()
             raise RuntimeError(
                 f"robot '{self.name}' has no state yet: call set_robot_state() first"
             )
-        if self._gravity_stamp != self._stamp:
+        if self._gravity_stamp != buf.stamp:
             self._g = pin.computeGeneralizedGravity(
-                self.model, self._gravity_data, self._q_pin
+                self.model, self._gravity_data, buf.q_pin
             ).copy()
-            self._gravity_stamp = self._stamp
+            self._gravity_stamp = buf.stamp
         return self._g
 
     def get_joint_gravity_torques(self) -> np.ndarray:
@@ -67,9 +68,10 @@ class DynamicsApiMixin:
 
     def _com_kinematics(self) -> ComKinematics:
         self._require_model()
-        if self._com is None:
-            self._com = ComKinematics(self)
-        return self._com
+        buf = self.buffers
+        if buf.com is None:
+            buf.com = ComKinematics(self)
+        return buf.com
 
     def get_center_of_mass_terms(self):
         """

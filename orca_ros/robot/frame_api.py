@@ -30,6 +30,38 @@ _LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 
 class FrameApiMixin:
+    def set_base_frame(self, frame: str) -> None:
+        """Set the frame poses, Jacobians and accelerations are expressed in (world: inertial)."""
+        self._require_model()
+        fid = self.get_frame_id(frame)
+        self._base_frame = frame
+        self._base_fid = fid
+        # a frame rigidly attached to the world never moves: its transform is constant
+        self._base_static = (not self.floating_base) and (
+            fid < 0 or self.model.frames[fid].parentJoint == 0
+        )
+        self._base_is_world = fid < 0 or (
+            self._base_static and self._frame_world_pose_static(fid) is None
+        )
+        self._base_static_T = (
+            None
+            if self._base_is_world
+            else (self._frame_world_pose_static(fid) if self._base_static else None)
+        )
+        self._frame_cache.clear()
+
+    def _frame_world_pose_static(self, fid: int):
+        """
+        World pose of a frame attached to the universe joint.
+
+        Or None when it is the identity.
+        """
+        T = self.model.frames[fid].placement.homogeneous
+        return None if np.allclose(T, np.eye(4)) else T
+
+    def get_base_frame(self) -> str:
+        return self._base_frame
+
     def world_frame_terms(self, fid: int):
         """
         (world_H_frame, J, velocity, bias acceleration) of frame ``fid`` in world axes.
@@ -37,9 +69,10 @@ class FrameApiMixin:
         Cached per state.
         """
         hit = self._frame_cache.get(fid)
-        if hit is not None and hit[0] == self._stamp:
+        stamp = self.buffers.stamp
+        if hit is not None and hit[0] == stamp:
             return hit[1]
-        self._update_terms()
+        self.update_terms()
         m, d = self.model, self.data
         T = pin.updateFramePlacement(m, d, fid).homogeneous
         J = pin.getFrameJacobian(m, d, fid, _LWA)
@@ -47,7 +80,7 @@ class FrameApiMixin:
         acc = pin.getFrameClassicalAcceleration(m, d, fid, _LWA).vector
         # Pinocchio spatial vectors are [linear; angular], as our Jacobians
         terms = (T, J, vel, acc)
-        self._frame_cache[fid] = (self._stamp, terms)
+        self._frame_cache[fid] = (stamp, terms)
         return terms
 
     def world_frame_placement(self, fid: int):
@@ -58,10 +91,21 @@ class FrameApiMixin:
         only).
         """
         hit = self._frame_cache.get(fid)
-        if hit is not None and hit[0] == self._stamp:
+        if hit is not None and hit[0] == self.buffers.stamp:
             return hit[1][0]
-        self._update_terms()
+        self.update_terms()
         return pin.updateFramePlacement(self.model, self.data, fid).homogeneous
+
+    def static_base_placement(self):
+        """
+        world_H_base (4x4) of a base frame that never moves; None where it moves.
+
+        The identity for the world frame; a frame fixed to the world (a fixed base's root link,
+        a frame on it) keeps its placement in the model.
+        """
+        if self._base_is_world:
+            return np.eye(4)
+        return self._base_static_T if self._base_static else None
 
     def _base_terms(self):
         if self._base_is_world:

@@ -30,16 +30,15 @@ Conventions
 
 from __future__ import annotations
 
-import os
-
 import numpy as np
 import pinocchio as pin
 
 from . import state_input
 from .dynamics_api import DynamicsApiMixin
 from .frame_api import FrameApiMixin
-from .joint_locking import JointLockingMixin
-from .mjcf import build_mjcf_model, is_mjcf
+from .joint_locking import LockedJoints
+from .model_files import model_from_file, model_from_urdf_text
+from .state_buffers import StateBuffers
 from ..utils.logger import get_logger
 
 _LOG = get_logger('robot')
@@ -47,7 +46,7 @@ _ARRAY, _F64 = np.ndarray, np.dtype(np.float64)
 WORLD_FRAME = 'world'
 
 
-class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
+class RobotModel(DynamicsApiMixin, FrameApiMixin):
     """
     Kinematic/dynamic model of a robot.
 
@@ -58,9 +57,8 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         self.name = name
         self.model: pin.Model | None = None
         self.data: pin.Data | None = None
-        self._initialized = False
-        self._stamp = 0  # incremented at every state change; caches compare against it
-        self._terms_stamp = -1
+        # the current state, Pinocchio's Data of the cycle (state_buffers.py); made per model
+        self.buffers: StateBuffers | None = None
         self._gravity_stamp = -1
         self._frame_cache: dict[int, tuple] = {}
         self.urdf_path: str | None = None
@@ -81,33 +79,15 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         (``floating_base`` must then be True); ``floating_base`` without one adds it. Its
         collision geoms are the collision geometry. ValueError naming what the parser refused.
         """
-        if not isinstance(path, (str, os.PathLike)) or not os.path.isfile(path):
-            raise FileNotFoundError(f"robot model file not found: '{path}'")
-        with open(path, 'r', encoding='utf-8') as fh:
-            xml = fh.read()
-        if is_mjcf(xml):
-            self._locked = None
-            model = build_mjcf_model(os.fspath(path), floating_base)
-            self.urdf_path, self.urdf_xml, self.mjcf_path = None, None, os.fspath(path)
-            self._setup(model, floating_base)
-            return True
-        self.urdf_path = os.fspath(path)
-        return self.load_model_from_string(xml, floating_base)
+        src = model_from_file(path, floating_base)
+        self._locked = None
+        self.urdf_path, self.urdf_xml, self.mjcf_path = src.urdf_path, src.urdf_xml, src.mjcf_path
+        self._setup(src.model, floating_base)
+        return True
 
     def load_model_from_string(self, urdf_xml: str, floating_base: bool = False) -> bool:
         """Load the robot from URDF text (MJCF: its file, :meth:`load_model_from_file`)."""
-        if isinstance(urdf_xml, str) and is_mjcf(urdf_xml):
-            raise ValueError('MJCF text: give its file (its meshes and includes are found from '
-                             'its directory)')
-        if not isinstance(urdf_xml, str) or '<robot' not in urdf_xml:
-            raise ValueError('not a URDF description: no <robot> element in the given string')
-        try:
-            if floating_base:
-                model = pin.buildModelFromXML(urdf_xml, pin.JointModelFreeFlyer())
-            else:
-                model = pin.buildModelFromXML(urdf_xml)
-        except Exception as exc:  # pinocchio raises ValueError/RuntimeError with its own text
-            raise ValueError(f'could not parse URDF: {exc}') from exc
+        model = model_from_urdf_text(urdf_xml, floating_base)
         self._locked = None
         self.urdf_xml, self.mjcf_path = urdf_xml, None
         self._setup(model, floating_base)
@@ -124,8 +104,6 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         # velocities/accelerations that computeAllTerms left in self.data for the frame quantities
         # of the same state
         self._gravity_data = model.createData()
-        self._com = None
-        self._centroidal = None
         self.floating_base = bool(floating_base)
         if not self.name:
             self.name = model.name
@@ -134,24 +112,15 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         self._joint_names = [model.names[j] for j in self._joint_ids]
         self.nbase = 6 if floating_base else 0
         self.ndof = model.nv - self.nbase
-        # mapping joint angles -> Pinocchio configuration (continuous joints are cos/sin pairs)
-        self._q_simple = True
-        self._q_map = []
-        for j in self._joint_ids:
-            jm = model.joints[j]
-            if jm.nq == jm.nv == 1:
-                self._q_map.append((jm.idx_q, 1))
-            elif jm.nq == 2 and jm.nv == 1:
-                self._q_map.append((jm.idx_q, 2))
-                self._q_simple = False
-            else:
-                raise ValueError(
-                    f"joint '{model.names[j]}' of type {jm.shortname()} is not supported "
-                    '(only 1-DoF revolute/prismatic/continuous joints)'
-                )
+        # the state's buffers (continuous joints are cos/sin pairs in Pinocchio's q); the stamp
+        # goes on from the last model's: no cache keyed on a stamp takes the new state for old
+        last = self.buffers
+        self.buffers = buf = StateBuffers(model, self._joint_ids, self.ndof)
+        if last is not None:
+            buf.stamp = last.stamp + 1
         lower = np.full(self.ndof, -np.inf)
         upper = np.full(self.ndof, np.inf)
-        for k, (iq, nq) in enumerate(self._q_map):
+        for k, (iq, nq) in enumerate(buf.q_map):
             if nq == 1:
                 lower[k], upper[k] = model.lowerPositionLimit[iq], model.upperPositionLimit[iq]
         lower[lower < -1e10] = -np.inf
@@ -159,23 +128,11 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         self._pos_limits = (lower, upper)
         self._vel_limits = np.array(model.velocityLimit[self.nbase:], dtype=float)
         self._trq_limits = np.array(model.effortLimit[self.nbase:], dtype=float)
-        # the fast state input a compiled cycle may give (robot/state_input.py); None: Python's
-        self._state_kernel = None
-        self._q_pin = pin.neutral(model)
-        self._v_pin = np.zeros(model.nv)
-        self._q = np.zeros(self.ndof)
-        self._v = np.zeros(self.ndof)
-        self._world_H_base = np.eye(4)
-        self._base_twist_world = np.zeros(6)
-        self._base_from_q_pin = (
-            False  # set_configuration: world_H_base / twist derived from q, v on demand
-        )
         # the root link (with a floating base: the free-flyer's child link) is the default base
         # frame
         self._base_frame = None
         self.set_base_frame(self._first_body_frame() or WORLD_FRAME)
         self.set_gravity(np.array([0.0, 0.0, -9.81]))
-        self._initialized = False
         self._frame_cache.clear()
 
     def set_massless(self) -> None:
@@ -206,53 +163,18 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
             )
 
     # ------------------------------------------------------------------ configuration
-    def set_base_frame(self, frame: str) -> None:
-        """
-        Frame in which every pose.
-
-        Jacobian and acceleration is expressed ('world' = inertial frame).
-        """
-        self._require_model()
-        fid = self.get_frame_id(frame)
-        self._base_frame = frame
-        self._base_fid = fid
-        # a frame rigidly attached to the world never moves: its transform is constant
-        self._base_static = (not self.floating_base) and (
-            fid < 0 or self.model.frames[fid].parentJoint == 0
-        )
-        self._base_is_world = fid < 0 or (
-            self._base_static and self._frame_world_pose_static(fid) is None
-        )
-        self._base_static_T = (
-            None
-            if self._base_is_world
-            else (self._frame_world_pose_static(fid) if self._base_static else None)
-        )
-        self._frame_cache.clear()
-
-    def _frame_world_pose_static(self, fid: int):
-        """
-        World pose of a frame attached to the universe joint.
-
-        Or None when it is the identity.
-        """
-        T = self.model.frames[fid].placement.homogeneous
-        return None if np.allclose(T, np.eye(4)) else T
-
-    def get_base_frame(self) -> str:
-        return self._base_frame
-
     def set_gravity(self, gravity) -> None:
         self._require_model()
         g = np.asarray(gravity, dtype=float).reshape(-1)
         if g.shape != (3,) or not np.all(np.isfinite(g)):
             raise ValueError(f'gravity must be a finite 3-vector, got {gravity!r}')
         self.model.gravity.linear = g
-        self._gravity = g.copy()
-        self._stamp += 1
+        buf = self.buffers
+        buf.gravity[:] = g
+        buf.stamp += 1
 
     def get_gravity(self) -> np.ndarray:
-        return self._gravity.copy()
+        return self.buffers.gravity.copy()
 
     # ------------------------------------------------------------------ state
     def set_robot_state(self, *args) -> None:
@@ -262,7 +184,9 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         Or ``set_robot_state(world_H_base, q, base_twist_world, v, gravity)`` (also valid for a
         fixed base: the base transform/twist are then ignored and only the gravity is applied).
         """
-        fast = self._state_kernel  # the common inputs, by kernel (made by a compiled cycle)
+        buf = self.buffers
+        fast = None if buf is None else buf.state_kernel  # the common inputs, by kernel (made
+        # by a compiled cycle)
         if fast is not None and (fast.joint_state(*args) if len(args) == 2 else
                                  len(args) == 5 and fast.full_state(*args)):
             return
@@ -276,15 +200,17 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         ``q`` of size nq (floating base: position, unit quaternion x y z w, then the joints), ``v``
         of size nv (floating base: the base twist in the base frame, then the joints).
         """
-        fast = self._state_kernel  # by kernel, inline: the common input of every cycle (see
-        # StateKernel: exactly ndarray, float64 itself, the sizes; the kernel checks the values)
+        buf = self.buffers
+        fast = None if buf is None else buf.state_kernel  # by kernel, inline: the common input
+        # of every cycle (see StateKernel: exactly ndarray, float64 itself, the sizes; the
+        # kernel checks the values)
         if (fast is not None and type(q) is _ARRAY and type(v) is _ARRAY and q.dtype is _F64
                 and v.dtype is _F64 and fast.shapes is not None and q.shape == fast.shapes[0]
                 and v.shape == fast.shapes[1] and not fast.take(q, v, fast.arrays)):
             if fast.nb:
-                self._base_from_q_pin = True
-            self._stamp += 1
-            self._initialized = True
+                buf.base_from_q_pin = True
+            buf.stamp += 1
+            buf.initialized = True
             return
         self._require_model()
         state_input.set_configuration(self, q, v)
@@ -293,17 +219,25 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
         return state_input.checked(self, x, shape, what)
 
     def is_initialized(self) -> bool:
-        return self._initialized
+        return self.buffers is not None and self.buffers.initialized
 
-    def _update_terms(self) -> None:
-        if not self._initialized:
+    def update_terms(self) -> None:
+        """
+        Pinocchio's ``computeAllTerms`` for the current state into :attr:`data`, once per state.
+
+        The mass matrix, nonlinear effects, joint placements, Jacobians and their velocities and
+        drifts, the centre of mass: what the frame and dynamics getters read. RuntimeError
+        before a state was given.
+        """
+        buf = self.buffers
+        if buf is None or not buf.initialized:
             self._require_model()
             raise RuntimeError(
                 f"robot '{self.name}' has no state yet: call set_robot_state() first"
             )
-        if self._terms_stamp != self._stamp:
-            pin.computeAllTerms(self.model, self.data, self._q_pin, self._v_pin)
-            self._terms_stamp = self._stamp
+        if buf.terms_stamp != buf.stamp:
+            pin.computeAllTerms(self.model, self.data, buf.q_pin, buf.v_pin)
+            buf.terms_stamp = buf.stamp
 
     # ------------------------------------------------------------------ sizes and names
     def get_nr_of_degrees_of_freedom(self) -> int:
@@ -353,28 +287,93 @@ class RobotModel(DynamicsApiMixin, FrameApiMixin, JointLockingMixin):
     def get_joint_torque_limits(self) -> np.ndarray:
         return self._trq_limits.copy()
 
+    # ------------------------------------------------------------------ locked joints
+    def lock_joints(self, names, positions=None, tolerance: float = 1e-4) -> None:
+        """
+        Weld the named joints at ``positions``: the model then has only the other joints.
+
+        For joints another controller drives (a gripper's fingers): they stay in the model at
+        the position :meth:`set_locked_joint_positions` last gave, and the controller never
+        commands them. Call it before tasks and constraints are added (their sizes follow). An
+        empty list restores the full model.
+        """
+        self._require_model()
+        full = self._locked.full_model if self._locked is not None else self.model
+        base_frame, gravity = self._base_frame, self.buffers.gravity.copy()
+        if not list(names):
+            self._locked = None
+            self._setup(full, self.floating_base)
+        else:
+            locked = LockedJoints(full, names, tolerance)
+            if positions is not None:
+                locked.positions = locked.checked(positions)
+            self._setup(locked.reduced_model(), self.floating_base)
+            self._locked = locked
+        if self.frame_exists(base_frame):
+            self.set_base_frame(base_frame)
+        self.set_gravity(gravity)
+
+    def set_locked_joint_positions(self, positions) -> bool:
+        """
+        Measured positions of the locked joints (order of :meth:`get_locked_joint_names`).
+
+        The model is welded again when one moved by more than the tolerance (True then); the
+        state set with :meth:`set_robot_state` is kept.
+        """
+        locked = self._locked
+        if locked is None:
+            raise RuntimeError(f"robot '{self.name}' has no locked joints")
+        x = locked.checked(positions)
+        if not locked.moved(x):
+            return False
+        model = locked.reduced_model(x)
+        buf = self.buffers  # the state stays (the same joints); the model's terms are new
+        model.gravity.linear = buf.gravity
+        self.model = model
+        self.data = model.createData()
+        self._gravity_data = model.createData()
+        buf.com = buf.centroidal = None
+        self.set_base_frame(self._base_frame)  # clears the frame cache
+        buf.stamp += 1
+        return True
+
+    def get_full_model(self):
+        """Return the model with every joint of the URDF (the locked ones too)."""
+        return self.model if self._locked is None else self._locked.full_model
+
+    def get_locked_joint_names(self) -> list[str]:
+        return [] if self._locked is None else list(self._locked.names)
+
+    def get_locked_joint_positions(self) -> np.ndarray:
+        return np.zeros(0) if self._locked is None else self._locked.positions.copy()
+
+    def get_locked_joint_position_limits(self):
+        if self._locked is None:
+            return np.zeros(0), np.zeros(0)
+        return self._locked.lower.copy(), self._locked.upper.copy()
+
     # ------------------------------------------------------------------ state getters
     def get_joint_positions(self) -> np.ndarray:
-        return self._q.copy()
+        return self.buffers.q.copy()
 
     def get_joint_velocities(self) -> np.ndarray:
-        return self._v.copy()
+        return self.buffers.v.copy()
 
     def get_generalized_velocity(self) -> np.ndarray:
         """Return nu in Pinocchio's convention (a view, valid until the next state change)."""
-        return self._v_pin
+        return self.buffers.v_pin
 
     def get_configuration(self) -> np.ndarray:
         """Return q in Pinocchio's convention (see :meth:`set_configuration`), a copy."""
-        return self._q_pin.copy()
+        return self.buffers.q_pin.copy()
 
     def get_world_to_base_transform(self) -> np.ndarray:
         state_input.sync_base(self)
-        return self._world_H_base.copy()
+        return self.buffers.world_H_base.copy()
 
     def get_base_velocity(self) -> np.ndarray:
         state_input.sync_base(self)
-        return self._base_twist_world.copy()
+        return self.buffers.base_twist_world.copy()
 
     def print(self) -> None:  # noqa: A003 (ORCA API name)
         lo, hi = self._pos_limits

@@ -29,7 +29,7 @@ Two conventions are accepted:
 Every value is checked (shape, finite) before anything is written: a rejected state leaves the
 previous one. These run every control cycle: each check costs one reduction, the slow exact test
 runs only to name a fault. A compiled cycle gives the robot a kernel for the common inputs
-(``robot._state_kernel``, :mod:`orca_ros.optim.compiled.state_kernel`): the same checks and
+(``robot.buffers.state_kernel``, :mod:`orca_ros.optim.compiled.state_kernel`): the same checks and
 writes in one call; what it refuses comes here to be named.
 """
 
@@ -79,7 +79,7 @@ def set_joint_and_base_state(robot, args) -> None:
         if not is_rotation(T[:3, :3]):
             raise ValueError('world_H_base rotation block is not a rotation matrix')
         g = checked(robot, g, (3,), 'gravity')
-        if (g != robot._gravity).any():
+        if (g != robot.buffers.gravity).any():
             robot.set_gravity(g)
     else:
         raise TypeError(
@@ -87,29 +87,30 @@ def set_joint_and_base_state(robot, args) -> None:
         )
     q = checked(robot, q, (robot.ndof,), 'joint positions')
     v = checked(robot, v, (robot.ndof,), 'joint velocities')
-    robot._q[:] = q
-    robot._v[:] = v
-    q_pin, v_pin = robot._q_pin, robot._v_pin
-    if robot._q_simple:
+    buf = robot.buffers
+    buf.q[:] = q
+    buf.v[:] = v
+    q_pin, v_pin = buf.q_pin, buf.v_pin
+    if buf.q_simple:
         q_pin[robot.model.nq - robot.ndof:] = q
     else:
-        for k, (iq, nq) in enumerate(robot._q_map):
+        for k, (iq, nq) in enumerate(buf.q_map):
             if nq == 1:
                 q_pin[iq] = q[k]
             else:
                 q_pin[iq], q_pin[iq + 1] = math.cos(q[k]), math.sin(q[k])
     v_pin[robot.nbase:] = v
     if robot.floating_base and T is not None:
-        robot._world_H_base[:] = T
-        robot._base_twist_world[:] = twist
-        robot._base_from_q_pin = False
+        buf.world_H_base[:] = T
+        buf.base_twist_world[:] = twist
+        buf.base_from_q_pin = False
         R = T[:3, :3]
         q_pin[:3] = T[:3, 3]
         q_pin[3:7] = quaternion_xyzw(R)
         np.dot(twist[:3], R, out=v_pin[:3])  # R^T twist: world axes -> base axes
         np.dot(twist[3:], R, out=v_pin[3:6])
-    robot._stamp += 1
-    robot._initialized = True
+    buf.stamp += 1
+    buf.initialized = True
 
 
 def set_configuration(robot, q, v) -> None:
@@ -122,30 +123,32 @@ def set_configuration(robot, q, v) -> None:
             raise ValueError(
                 f'configuration q: base quaternion norm {n:.6f} is not 1 (x y z w order expected)'
             )
-    q_pin = robot._q_pin
+    buf = robot.buffers
+    q_pin = buf.q_pin
     q_pin[:] = q
     if robot.floating_base:
         q_pin[3:7] /= n
-        robot._base_from_q_pin = True
-    robot._v_pin[:] = v
+        buf.base_from_q_pin = True
+    buf.v_pin[:] = v
     nb, ndof = robot.nbase, robot.ndof
-    if robot._q_simple:
-        robot._q[:] = q_pin[model.nq - ndof:]
+    if buf.q_simple:
+        buf.q[:] = q_pin[model.nq - ndof:]
     else:
-        for k, (iq, nq) in enumerate(robot._q_map):
-            robot._q[k] = q_pin[iq] if nq == 1 else math.atan2(q_pin[iq + 1], q_pin[iq])
-    robot._v[:] = v[nb:]
-    robot._stamp += 1
-    robot._initialized = True
+        for k, (iq, nq) in enumerate(buf.q_map):
+            buf.q[k] = q_pin[iq] if nq == 1 else math.atan2(q_pin[iq + 1], q_pin[iq])
+    buf.v[:] = v[nb:]
+    buf.stamp += 1
+    buf.initialized = True
 
 
 def sync_base(robot) -> None:
     """World pose and world-axes twist of the base from q, v (after set_configuration)."""
-    if not robot._base_from_q_pin:
+    buf = robot.buffers
+    if not buf.base_from_q_pin:
         return
-    T = pin.XYZQUATToSE3(robot._q_pin[:7]).homogeneous
+    T = pin.XYZQUATToSE3(buf.q_pin[:7]).homogeneous
     R = T[:3, :3]
-    robot._world_H_base[:] = T
-    robot._base_twist_world[:3] = R @ robot._v_pin[:3]
-    robot._base_twist_world[3:] = R @ robot._v_pin[3:6]
-    robot._base_from_q_pin = False
+    buf.world_H_base[:] = T
+    buf.base_twist_world[:3] = R @ buf.v_pin[:3]
+    buf.base_twist_world[3:] = R @ buf.v_pin[3:6]
+    buf.base_from_q_pin = False

@@ -36,7 +36,7 @@ class CartesianAccelerationPID(Watched):
         self._pid = PIDController(6)
         self._robot = None
         self._frame: str | None = None
-        self._fid: int | None = None
+        self.fid: int | None = None
         self._pose_ref = np.eye(4)
         self._vel_ref = np.zeros(6)
         self._acc_ref = np.zeros(6)
@@ -54,11 +54,11 @@ class CartesianAccelerationPID(Watched):
     def set_robot_model(self, robot) -> None:
         self._robot = robot
         if self._frame is not None:
-            self._fid = robot.get_frame_id(self._frame)
+            self.fid = robot.get_frame_id(self._frame)
 
     def set_control_frame(self, frame: str) -> None:
         if self._robot is not None:
-            self._fid = self._robot.get_frame_id(frame)  # raises on unknown frames
+            self.fid = self._robot.get_frame_id(frame)  # raises on unknown frames
         self._frame = frame
 
     def get_control_frame(self) -> str | None:
@@ -99,11 +99,11 @@ class CartesianAccelerationPID(Watched):
 
     # -------------------------------------------------------------- run time
     def _read_state(self):
-        if self._robot is None or self._fid is None:
+        if self._robot is None or self.fid is None:
             raise RuntimeError(
                 f"servo '{self.name}': robot model and control frame must be set first"
             )
-        terms = self._robot.frame_terms(self._fid)
+        terms = self._robot.frame_terms(self.fid)
         self._pose[:] = terms[0]
         self._vel[:] = terms[2]
         return terms

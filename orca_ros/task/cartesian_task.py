@@ -55,7 +55,7 @@ class CartesianTask(GenericTask):
         if not servo.has_desired():
             servo.hold_current_pose()
         a_des = servo.update(current_time, dt)
-        _, J, _, bias = self.robot.frame_terms(servo._fid)
+        _, J, _, bias = self.robot.frame_terms(servo.fid)
         lay = self.layout
         self.E[:, lay.acc] = J
         self.f[:] = a_des - bias

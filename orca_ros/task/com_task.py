@@ -61,6 +61,10 @@ class CoMTask(GenericTask):
         self._p_ref[:], self._v_ref[:], self._a_ref[:] = vals
         self._has_desired = True
 
+    def has_desired(self) -> bool:
+        """Tell whether a desired value was set (else the task holds where it first computes)."""
+        return self._has_desired
+
     def get_desired(self):
         return (
             (self._p_ref.copy() if self._has_desired else None),

@@ -32,9 +32,8 @@ class GenericTask(TaskBase):
         self.layout = None
         self.weight = 1.0
         self.level = 0
-        self._owner = (
-            None  # the controller holding the task (its problem stack depends on the level)
-        )
+        # the registry of the controller holding the task (its levels depend on the task's)
+        self.registry = None
         self._selection_request: np.ndarray | None = None
         self.E = np.zeros((0, 0))
         self.f = np.zeros(0)
@@ -69,13 +68,13 @@ class GenericTask(TaskBase):
 
     def get_effective_weight(self) -> float:
         """Weight times the activation ramp (what the solver uses this cycle)."""
-        return self.weight * self._ramp_factor if self.is_computing() else 0.0
+        return self.weight * self.ramp_factor if self.is_computing() else 0.0
 
     def set_priority_level(self, level: int) -> None:
         if int(level) < 0:
             raise ValueError('priority level must be >= 0')
-        if int(level) != self.level and self._owner is not None:
-            self._owner._dirty = True  # the levels are rebuilt at the next update
+        if int(level) != self.level and self.registry is not None:
+            self.registry.mark_changed()  # the levels are rebuilt at the next update
         self.level = int(level)
 
     def set_selection_vector(self, selection) -> None:

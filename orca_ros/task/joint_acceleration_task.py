@@ -72,6 +72,10 @@ class JointAccelerationTask(GenericTask):
             self._q_ref[:], self._qd_ref[:], self._qdd_ref[:] = vals
         self._has_desired = True
 
+    def has_desired(self) -> bool:
+        """Tell whether a desired value was set (else the task holds where it first computes)."""
+        return self._has_desired
+
     def get_desired(self):
         return self._q_ref.copy(), self._qd_ref.copy(), self._qdd_ref.copy()
 
@@ -85,7 +89,7 @@ class JointAccelerationTask(GenericTask):
         robot = self.robot
         if not self._has_desired:
             self.hold_current_position()
-        np.subtract(self._q_ref, robot._q, out=self._q_err)
-        np.subtract(self._qd_ref, robot._v, out=self._qd_err)
+        np.subtract(self._q_ref, robot.buffers.q, out=self._q_err)
+        np.subtract(self._qd_ref, robot.buffers.v, out=self._qd_err)
         cmd = self._pid.compute_command(self._q_err, self._qd_err, dt)
         np.add(self._qdd_ref, cmd, out=self.f)

@@ -62,6 +62,6 @@ class RegularisationTask(GenericTask):
     def _update_affine_function(self, current_time: float, dt: float) -> None:
         lay = self.layout
         if self.damping:
-            np.multiply(self.robot._v_pin, -self.damping, out=self.f[lay.acc])
+            np.multiply(self.robot.buffers.v_pin, -self.damping, out=self.f[lay.acc])
         else:
             self.f[lay.acc] = 0.0

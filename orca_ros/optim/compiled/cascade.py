@@ -54,7 +54,7 @@ def unlowered_reason(levels) -> str | None:
     if why is not None:
         return why
     for p in levels.problems[1:]:
-        if p._null_space is not None:
+        if p.null_space is not None:
             return 'a solver other than DAQP'
         for t in p.locked:
             cols = t.diagonal_columns
@@ -123,7 +123,7 @@ class CompiledCascade:
             if resumed is not None:  # where cascade_step stopped: its outcome for the level
                 code = self._resumed(lev, resumed, deadline, max_iterations)
                 resumed = None
-            elif not (lev.releasing or lev.open) and b._set_up \
+            elif not (lev.releasing or lev.open) and b.warm \
                     and p.temporal_damping == lev.mu_for:
                 # the steady strict level: prepared and solved warm in one call (_by_kernel's
                 # and solve_prepared's, inline: their Python frames spared at every level)
@@ -141,7 +141,7 @@ class CompiledCascade:
                     code = self._by_kernel(lev, deadline, max_iterations, code is None)
             if code is _NOTHING:  # nothing to optimise here: the solution above stands,
                 np.copyto(lev.problem.x, solved.x)  # as the level's, which the next locks to
-                lev.problem._prev_ok[0] = 0  # (no solution of its own to damp towards next)
+                lev.problem.prev_ok[0] = 0  # (no solution of its own to damp towards next)
                 continue
             if code is not _SUCCESS:
                 _LOG.debug(
@@ -159,8 +159,8 @@ class CompiledCascade:
         p = lev.problem
         p.locked_backend.iterations = iters
         p.band = None
-        if not p._prev_ok[0] and p.temporal_damping > 0.0:
-            p._prev_ok[0] = 1
+        if not p.prev_ok[0] and p.temporal_damping > 0.0:
+            p.prev_ok[0] = 1
         p.return_code = _SUCCESS
 
     @staticmethod
@@ -171,8 +171,8 @@ class CompiledCascade:
         banded = stage == L.S_BANDED
         (lev.banded if banded else p.locked_backend).iterations = it
         p.band = lev.band if banded else None
-        if not p._prev_ok[0] and p.temporal_damping > 0.0:
-            p._prev_ok[0] = 1
+        if not p.prev_ok[0] and p.temporal_damping > 0.0:
+            p.prev_ok[0] = 1
         p.return_code = _SUCCESS
 
     def _resumed(self, lev, row, deadline, max_iterations):
@@ -229,7 +229,7 @@ class CompiledCascade:
                 return _NOTHING
             code = ReturnCode.NON_FINITE_PROBLEM
         elif p.temporal_damping > 0.0:  # after a failure, the next solve is damped towards x_ref
-            p._prev_ok[0] = code is _SUCCESS
+            p.prev_ok[0] = code is _SUCCESS
         p.return_code = code
         return code
 
@@ -267,9 +267,9 @@ class CompiledCascade:
             if flag == 0:
                 code = ref.solve_bound()  # set up, cold
             else:
-                code = ref._ran(flag, it_ref, ns * 1e-9)
+                code = ref.ran(flag, it_ref, ns * 1e-9)
                 if code is not _SUCCESS and it_ref < cap:
-                    code = ref._cold(cap - it_ref)  # once more, cold
+                    code = ref.solve_cold(cap - it_ref)  # once more, cold
             if code is _SUCCESS and lev.bands(lev.state):
                 p.band = lev.band
                 if L.weighted(lev.state):  # the reference is the solution (as the kernel's)
@@ -281,9 +281,9 @@ class CompiledCascade:
         ref.iterations = it_ref
         if flag == 0:
             return back.solve_bound()  # set up, cold
-        code = back._ran(flag, it, ns * 1e-9)
+        code = back.ran(flag, it, ns * 1e-9)
         if code is not _SUCCESS and it < cap:
-            code = back._cold(cap - it)  # once more, cold
+            code = back.solve_cold(cap - it)  # once more, cold
         return code
 
     def _releasing(self, lev, x_above, deadline, max_iterations):

@@ -90,17 +90,19 @@ class Level:
             np.array(locks, dtype=i64).reshape(-1, 5), rows.start, rows.stop,
             np.array([dense[id(t)] for t in upper if id(t) in dense], dtype=i64),
             np.array([diag[id(t)] for t in upper if id(t) in diag], dtype=i64),
-            p.H, p.g, p._M, p.b, p._lo, p._hi, levels.problems[index - 1].x, p.x_ref, p.x,
-            p._prev_ok, p._damp_w, self.mu, self.Hd, self.g2, nc, ni, nx,
+            p.H, p.g, p.stacked_M, p.b, p.stacked_lo, p.stacked_hi, levels.problems[index - 1].x,
+            p.x_ref, p.x,
+            p.prev_ok, p.damping_w, self.mu, self.Hd, self.g2, nc, ni, nx,
             self.keep, self.ref_x, self.band, self.Mb, self.lob, self.hib,
         )
         p.locked_backend = b = _direct(
-            nx, p.n_eq, ni, scale, (self.Hd, self.g2, p._M, p._lo, p._hi), p.x, p.x_ref
+            nx, p.n_eq, ni, scale, (self.Hd, self.g2, p.stacked_M, p.stacked_lo, p.stacked_hi),
+            p.x, p.x_ref,
         )
         # compiled (or loaded) here, not in a cycle: prepare, then solve, in one call when warm
-        self.fused = entry(L.prepare_and_solve, self.state, b._state, -1, 1.0, 0, 0, b.timing,
+        self.fused = entry(L.prepare_and_solve, self.state, b.solve_state, -1, 1.0, 0, 0, b.timing,
                            b.clock)
-        self.fused(self.state, b._state, -1, 1.0, 0, 0, b.timing, b.clock)
+        self.fused(self.state, b.solve_state, -1, 1.0, 0, 0, b.timing, b.clock)
         self.reference = self.banded = None
         if reference is not None:  # its weighted reference (the level's cost, no locks); banded
             self.reference = _direct(
@@ -124,7 +126,7 @@ class Level:
 
     def flags(self) -> None:
         self.releasing = any(
-            0.0 < t._ramp_factor < 1.0 and t.get_effective_weight() > 0.0
+            0.0 < t.ramp_factor < 1.0 and t.get_effective_weight() > 0.0
             for t in self.problem.locked
         )
 

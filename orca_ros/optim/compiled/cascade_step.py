@@ -164,7 +164,7 @@ class CascadeStep:
             elif lev.open:
                 m = GENERALIZED
             else:
-                m = STRICT if p.locked_backend._set_up else PYTHON
+                m = STRICT if p.locked_backend.warm else PYTHON
             mode[i] = m
             damped[i] = p.temporal_damping > 0.0
 

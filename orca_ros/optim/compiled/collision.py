@@ -302,7 +302,7 @@ class CollisionKernels:
         gd.deactivateAllCollisionPairs()
         kept, when, floor, cycle = con.kept_bounds()
         self.ws = _construct(
-            oMg, views[0], views[1], views[2], data.J, sup, robot._v_pin,
+            oMg, views[0], views[1], views[2], data.J, sup, robot.buffers.v_pin,
             np.array(geom._joint, dtype=np.int64), geom.placement, gsphere, geom._capsule,
             geom.velocity, pairs, npairs, geom.n_robot, np.zeros((ng, 3)), np.zeros((ng, 6)),
             np.zeros((ng, 6)), np.zeros(size), np.zeros(size, dtype=np.int64),

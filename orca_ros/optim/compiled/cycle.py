@@ -47,27 +47,32 @@ from ...utils.logger import get_logger
 _LOG = get_logger('compiled')
 _SUCCESS = ReturnCode.SUCCESS
 _crba, _nle, _WORLD = terms.cycle_passes()
+_SOLVED = (_SUCCESS, False)  # run's result where every level solved (none dropped)
 
 
 class CompiledCycle(CycleContacts):
     _said_why = False
 
-    def __init__(self, controller, plan):
+    def __init__(self, reference):
         start = time.perf_counter()
-        robot = controller.robot
+        self.reference = reference
+        registry, plan = reference.registry, reference.plan
+        robot, lay = reference.layout.robot, reference.layout
+        self.name, self.levels, self.output = reference.name, reference.levels, reference.output
+        self.objects = reference.objects
         self.fused = None  # the one-call cycle (FusedStep), where it applies
         self.python = []  # objects that run their own update, in the reference path's order
         self.lowered = []
         self.in_python: dict[str, str] = {}  # object name -> why it is not lowered
-        for obj in controller._updated:
+        for obj in self.objects:
             low, why = lower(obj)
             if low is None:
                 self.python.append(obj)
                 self.in_python[obj.name] = why
             else:
                 self.lowered.append(low)
-        attach_kernels(controller._constraints, self.python, self.in_python)
-        for obj in controller._constraints:  # balance: its polygon and rows by its kernel
+        attach_kernels(registry.constraints, self.python, self.in_python)
+        for obj in registry.constraints:  # balance: its polygon and rows by its kernel
             if isinstance(obj, BalanceConstraint):
                 obj.use_kernel(obj in self.python)
                 if obj in self.python:
@@ -75,37 +80,36 @@ class CompiledCycle(CycleContacts):
         self.tables = t = Tables(self.lowered, robot)
         for k, low in enumerate(self.lowered):
             low.bind(t, k, plan)
-        for obj in controller._updated:  # the lowered ones watch themselves (bind)
+        for obj in self.objects:  # the lowered ones watch themselves (bind)
             obj.watch_by(t.watch)
-        self.n_objects = len(controller._updated)
+        self.n_objects = len(self.objects)
         self.plan = plan
-        self.assembly = PlanAssembly(plan, controller._problems[0])
-        self.problem = controller._problems[0]
-        self.robot, self.layout = robot, controller.layout
-        self._lower_contacts(controller, plan)
-        self._bind_wrenches(controller)
+        self.problem = self.levels.problems[0]
+        self.assembly = PlanAssembly(plan, self.problem)
+        self.robot, self.layout = robot, lay
+        self._lower_contacts(lay, reference.dynamics, plan)
+        self._bind_wrenches(lay)
         self._bind_data()
-        self.solver_in_kernel = self._solve_in_kernel(controller)
-        self.cascade = self._lower_levels(controller)
-        # every level solved by kernel: the controller calls solve instead of the levels'
+        self.solver_in_kernel = self._solve_in_kernel(reference.solver)
+        self.cascade = self._lower_levels(reference.priorities)
+        # every level solved by kernel: the cycle's solve instead of the levels'
         self.steady = self.solver_in_kernel and (
-            len(controller._problems) == 1 or self.cascade is not None
+            len(self.levels.problems) == 1 or self.cascade is not None
         )
         # compile (or load) the kernel for this configuration's types, every object off: the
         # arrays it writes are rewritten by the first cycle
         t.tab[:, 1] = 0
         self._run(self.ws, 1e-3)
-        lay = controller.layout
         self._finish(self.ws, np.zeros(lay.nx), np.zeros(lay.nx), np.zeros(lay.nv),
                      np.zeros(lay.ndof), np.zeros(lay.ndof))
         if self.owns_layout:
             self.ct_tab[:, 3] = 0
             self.dyn[1] = 0
             self._run_contacts(self.ws, 1e-3)
-        self.fused = self._fuse(controller)
+        self.fused = self._fuse()
         self.compile_seconds = time.perf_counter() - start
 
-    def _solve_in_kernel(self, controller) -> bool:
+    def _solve_in_kernel(self, solver) -> bool:
         """
         Give the first level DAQP's C solve by kernel (:mod:`.direct_daqp`).
 
@@ -113,7 +117,7 @@ class CompiledCycle(CycleContacts):
         their check in this process; else the level keeps its back-end and the log says why once.
         """
         problem = self.problem
-        if controller.solver is not QPSolver.DAQP or not problem._stacked:
+        if solver is not QPSolver.DAQP or not problem.stacked:
             return False
         why = direct_daqp.unavailable_reason()
         if why is not None:
@@ -130,7 +134,7 @@ class CompiledCycle(CycleContacts):
         b.compile_for(problem.H, problem.g, plan.M, plan.lo, plan.hi)
         return True
 
-    def _fuse(self, controller):
+    def _fuse(self):
         """Make the one-call cycle (FusedStep): the first level solved by kernel, bounds too."""
         if not self.steady:
             return None
@@ -140,18 +144,18 @@ class CompiledCycle(CycleContacts):
         if why is not None:
             self.in_python['the one-call cycle'] = why
             return None
-        return FusedStep(self, controller)
+        return FusedStep(self, self.output)
 
-    def _lower_levels(self, controller):
+    def _lower_levels(self, priorities):
         """Lower the levels below the first (None: one level, or they cannot be)."""
-        levels = controller._levels
+        levels = self.levels
         if not self.solver_in_kernel or len(levels.problems) == 1:
             return None
         why = cascade.unlowered_reason(levels)
         if why is not None:
             self.in_python['the levels below the first'] = why
             return None
-        return cascade.CompiledCascade(self, levels, controller.priorities)
+        return cascade.CompiledCascade(self, levels, priorities)
 
     def _bind_data(self) -> None:
         """
@@ -167,7 +171,7 @@ class CompiledCycle(CycleContacts):
             raise RuntimeError("Pinocchio's Data is not laid out as the kernels read it")
         self.data = d
         # the Pinocchio pass: two passes where they give all the kernels read (terms.py)
-        self._derive = np.zeros(1, dtype=np.int64)
+        self.derive = np.zeros(1, dtype=np.int64)
         self._gravity = robot.model.gravity.linear.copy()
         self._pass_stamp = None
         self.two_passes = (
@@ -176,24 +180,25 @@ class CompiledCycle(CycleContacts):
             and terms.matches(robot.model, lambda data: fill.data_views(robot.model, data))
         )
         # momentum tasks: the robot's centroidal terms (dccrba, once per state: kernel and API)
-        self._centroidal, cm_terms = None, (np.zeros((6, lay.nv)), np.zeros(6), np.zeros(6))
+        self.centroidal, cm_terms = None, (np.zeros((6, lay.nv)), np.zeros(6), np.zeros(6))
         if any(low.kind == fill.MOM for low in self.lowered):
-            self._centroidal = cm = CentroidalMomentum.of(robot)
-            cm_terms = cm._Ag, cm._h, cm._drift
-        if robot._state_kernel is None:  # a new robot model (a re-weld) comes without it
-            robot._state_kernel = StateKernel(robot, _QUATERNION_TOL)
+            self.centroidal = cm = CentroidalMomentum.of(robot)
+            cm_terms = cm.Ag, cm.h, cm.drift
+        buf = robot.buffers
+        if buf.state_kernel is None:  # a new robot model comes without it
+            buf.state_kernel = StateKernel(robot, _QUATERNION_TOL)
         t.set_bodies(robot.model)
         for low in self.lowered:
             low.rebind_model()
         # the torque map (T, t0): Pinocchio's M and nle themselves without contacts (what
         # layout.update points to every cycle), the layout's own arrays with contacts
-        T, t0 = (d.M[nb:], d.nle[nb:]) if lay.n_wrenches == 0 else (lay._T, lay._t0)
+        T, t0 = (d.M[nb:], d.nle[nb:]) if lay.n_wrenches == 0 else (lay.T_own, lay.t0_own)
         if lay.n_wrenches == 0:
             lay.T, lay.t0 = T, t0  # what layout.update sets: update() calls it no more
         self.ws = make_workspace(
             J=d.J, oMi=views[0], vj=views[1], aj=views[2], a_gf=views[3], grav=self._gravity,
-            derive=self._derive, q=robot._q, v=robot._v,
-            v_pin=robot._v_pin, T=T, t0=t0, cart=t.cart, cart_sup=t.cart_sup, jrec=t.jrec,
+            derive=self.derive, q=buf.q, v=buf.v,
+            v_pin=buf.v_pin, T=T, t0=t0, cart=t.cart, cart_sup=t.cart_sup, jrec=t.jrec,
             lims=t.lims, pacc=t.pacc, tab=t.tab, par=t.par, tmp=t.tmp,
             com=d.com[0], vcom=d.vcom[0], Jcom=d.Jcom, body=t.body, crec=t.crec,
             Ag=cm_terms[0], hg=cm_terms[1], dhg=cm_terms[2], mrec=t.mrec,
@@ -212,6 +217,85 @@ class CompiledCycle(CycleContacts):
         self._finish = entry(cycle_kernel.finish, ws, vec, vec, vec, vec, vec)
         if self.fused is not None:
             self.fused.bind(ws)
+
+    def run(self, t: float, dt: float, deadline, max_iterations):
+        """
+        Run the cycle, as :meth:`.ReferenceCycle.run` does (same arguments, same results).
+
+        Where nothing changed since the last cycle and the one-call cycle applies with nothing
+        else in Python (``FusedStep.lean``), the lean route: Pinocchio's two passes, then one
+        kernel call up to the first level's solution (and the levels below: ``cascade_step``),
+        inline here. Else :meth:`update`, then the levels' solves by kernel (:meth:`solve`)
+        where every level is lowered, else the levels' own; then the solution written out.
+        """
+        step = self.fused
+        lean = None if step is None else step.lean
+        fused = solved = None
+        if lean is not None:
+            watch, r, buf, data, b, st, problem, frame, derive, model, crba, nle, world = lean
+            if watch.touched or r.data is not data or b.solve_state is not st or not b.warm:
+                lean = None
+        if lean is not None:
+            stamp = buf.stamp
+            if stamp != self._pass_stamp and buf.terms_stamp != stamp:
+                q = buf.q_pin
+                crba(model, data, q, world)  # (terms.two_passes)
+                nle(model, data, q, buf.v_pin)
+                derive[0] = 1  # the kernel derives the drifts
+                self._pass_stamp = stamp
+            most = max_iterations or b.default_max_iterations
+            cstep = step.cascade_step
+            if cstep is not None:  # the levels below in the same call (CascadeStep)
+                steady = not cstep.changed.touched
+                if not steady:
+                    cstep.write_modes()
+                flags, k, iters = cstep.run(cstep.frame, dt, deadline, most)
+                if k > cstep.n and steady:  # every level solved as the last cycle, written out
+                    b.iterations = iters
+                    if flags:
+                        self.plan.box_conflicts += flags & 1
+                    return _SOLVED
+                solved = cstep.took(flags, k, iters, deadline, most, max_iterations, self.name,
+                                    self.levels)
+                if solved is True:  # every level solved, written out
+                    return _SOLVED
+            else:
+                flags, flag, iters, cap, ns = step.kernel(frame, dt, deadline, most)
+                if flag == 1:  # FusedStep.took_solved, inline (the Panda's cycle notices)
+                    b.iterations = iters
+                    problem.return_code = fused = _SUCCESS
+                    problem.built_finite = True
+                    if flags:
+                        self.plan.box_conflicts += flags & 1
+                else:  # (b's budget: what a failure's handling reads)
+                    b.deadline, b.max_iterations = deadline, most
+                    fused = step.took(flags, flag, iters, cap, ns)
+        else:
+            fused = self.update(t, dt, deadline, max_iterations)
+        levels = self.levels
+        if solved is not None:
+            problem, code, dropped = solved
+        elif fused is _SUCCESS and self.cascade is None:  # solved and written out
+            levels.contacts_relaxed = False
+            return _SOLVED
+        elif self.steady or fused is not None:  # every level by kernel
+            problem, code, dropped = self.solve(levels, deadline, max_iterations, self.name,
+                                                fused)
+        else:
+            problem, code, dropped = levels.solve(deadline, max_iterations,
+                                                  self.reference.priorities, self.name)
+        if code is _SUCCESS:
+            self.write_out(problem.x)
+        return code, dropped
+
+    def write_out(self, x) -> None:
+        """Write the solution x into the output's buffers (accelerations, torques, wrenches)."""
+        step = self.fused
+        if step is not None:  # its frame holds the output's arrays
+            step.finish_kernel(step.frame, x)
+        else:
+            out = self.output
+            self._finish(self.ws, x, out.x, out.acc, out.tau, out.command)
 
     def update(self, t: float, dt: float, deadline=None, max_iterations=None):
         """
@@ -233,22 +317,23 @@ class CompiledCycle(CycleContacts):
             # method's frame spared at every cycle); (T, t0) are views on Pinocchio's M and
             # nle (_bind_data) without contacts
             r = self.robot
+            buf = r.buffers
             if not self.two_passes:
-                r._update_terms()
-            elif r._stamp != self._pass_stamp and r._terms_stamp != r._stamp:
-                model, d, q = r.model, r.data, r._q_pin
+                r.update_terms()
+            elif buf.stamp != self._pass_stamp and buf.terms_stamp != buf.stamp:
+                model, d, q = r.model, r.data, buf.q_pin
                 _crba(model, d, q, _WORLD)
-                _nle(model, d, q, r._v_pin)  # (terms.two_passes)
-                self._derive[0] = 1  # the first kernel derives the drifts
-                self._pass_stamp = r._stamp
+                _nle(model, d, q, buf.v_pin)  # (terms.two_passes)
+                self.derive[0] = 1  # the first kernel derives the drifts
+                self._pass_stamp = buf.stamp
             if self.owns_layout:  # (ProblemLayout.update's, on the reference path)
                 self._contacts(t, dt, full)
         else:
             self.layout.update()
         for obj in self.python:
             obj.update(t, dt)
-        if self._centroidal is not None:  # the momentum tasks' terms (cached per state)
-            self._centroidal.terms()
+        if self.centroidal is not None:  # the momentum tasks' terms (cached per state)
+            self.centroidal.terms()
         full = full or watch.touched
         if full:  # else no object changed: nothing to re-read
             for low in self.lowered:
@@ -257,7 +342,7 @@ class CompiledCycle(CycleContacts):
             if self.cascade is not None:
                 self.cascade.flags()
         fused = self.fused
-        if fused is not None and fused.backend._set_up and not (full and self.plan.contacts):
+        if fused is not None and fused.backend.warm and not (full and self.plan.contacts):
             return fused(dt, deadline, max_iterations)
         flags = self._run(self.ws, dt)
         self.plan.box_conflicts += flags & 1
@@ -306,10 +391,6 @@ class CompiledCycle(CycleContacts):
         if code is not ReturnCode.SUCCESS:
             return levels.first_failed(problem, code, deadline, max_iterations)
         return problem, code, False
-
-    def finish(self, x, x_out, acc_out, tau, tau_cmd) -> None:
-        """Write the controller's solution, accelerations, torques, command and wrenches."""
-        self._finish(self.ws, x, x_out, acc_out, tau, tau_cmd)
 
     def describe(self) -> str:
         rest = ', '.join(f'{n} ({why})' for n, why in self.in_python.items())

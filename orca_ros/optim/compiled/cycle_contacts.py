@@ -35,13 +35,13 @@ _ACTIVATED = ActivationState.ACTIVATED
 
 
 def _has_callbacks(obj) -> bool:
-    return obj._cb_begin is not None or obj._cb_end is not None
+    return obj.compute_begin_cb is not None or obj.compute_end_cb is not None
 
 
 class CycleContacts:
     """The contact side of CompiledCycle (see the module)."""
 
-    def _lower_contacts(self, controller, plan) -> None:
+    def _lower_contacts(self, lay, dyn, plan) -> None:
         """
         Take the contacts' kinematics (and the torque map, the dynamics rows) into the kernel.
 
@@ -49,7 +49,6 @@ class CycleContacts:
         rows (cones, normal force bounds) stay in Python. Otherwise ProblemLayout.update and the
         existence conditions run in Python as on the reference path.
         """
-        lay, dyn = controller.layout, controller.dynamics_constraint
         contacts = list(lay.contacts)
         self.contacts, self.owns_layout = [], False
         n = len(contacts)
@@ -69,7 +68,7 @@ class CycleContacts:
             return
         model = self.robot.model
         for i, c in enumerate(contacts):
-            frame = model.frames[c._fid]
+            frame = model.frames[c.fid]
             surface = isinstance(c, SurfaceContact)
             self.ct_tab[i] = [frame.parentJoint, c.existence_rows,
                               offset_in(c.existence.C, plan.M), 0, surface,
@@ -102,7 +101,7 @@ class CycleContacts:
         self.in_python.pop(dyn.name, None)
         self.contacts, self.dynamics, self.owns_layout = contacts, dyn, True
         self._ct_seen = [None] * n  # (gain, normal) last written to ct_par
-        lay.T, lay.t0 = lay._T, lay._t0
+        lay.T, lay.t0 = lay.T_own, lay.t0_own
 
     def _contacts(self, t: float, dt: float, full: bool) -> None:
         """
@@ -121,8 +120,8 @@ class CycleContacts:
         tab, par, seen = self.ct_tab, self.ct_par, self._ct_seen
         for i, c in enumerate(self.contacts):
             ex = c.existence
-            if ex.state is not c.state or ex._ramp_factor != c._ramp_factor:
-                ex.state, ex._ramp_factor = c.state, c._ramp_factor  # it mirrors its contact
+            if ex.state is not c.state or ex.ramp_factor != c.ramp_factor:
+                ex.state, ex.ramp_factor = c.state, c.ramp_factor  # it mirrors its contact
             tab[i, 3] = c.state not in _INACTIVE
             # gain and normal change only through their setters: written when they did
             normal = None if tab[i, 4] else c.normal  # a surface's: its frame's z axis
@@ -133,16 +132,16 @@ class CycleContacts:
                 seen[i] = (c.velocity_gain, normal)
         dyn = self.dynamics
         if dyn.state is not _ACTIVATED and dyn.state not in _INACTIVE:
-            dyn._step_ramp(t)
+            dyn.step_ramp(t)
         self.dyn[1] = dyn.state not in _INACTIVE
 
-    def _bind_wrenches(self, controller) -> None:
+    def _bind_wrenches(self, lay) -> None:
         """
         Make the contacts' last wrenches rows of one array, which the finish kernel writes.
 
         (``ContactBase.record_solution``, for every contact of the layout.)
         """
-        contacts = list(controller.layout.contacts)
+        contacts = list(lay.contacts)
         self.ct_ws = np.array([c.wrench_slice().start for c in contacts] or [0], dtype=np.int64)
         self.ct_last = np.zeros((max(1, len(contacts)), 6))
         for i, c in enumerate(contacts):

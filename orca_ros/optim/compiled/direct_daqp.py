@@ -70,7 +70,7 @@ class DirectDAQPBackend(QPBackend):
         self._wbuf = np.zeros(daqp_c.WORKSPACE_BYTES // 8, dtype=np.int64)
         lib.default_settings(self._sbuf.ctypes.data)
         self._work = daqp_c.struct_in(self._wbuf, daqp_c.WorkspaceHead)
-        self._set_up = False
+        self.warm = False
         self._checked = False  # the workspace's layout checked in full (its first set-up)
         self._ours = [False]  # the workspace holds our settings (put there once it checked)
         # the finalizer gets the workspace's view, not the module's layout: a layout looked up
@@ -106,10 +106,10 @@ class DirectDAQPBackend(QPBackend):
         self._lam = np.zeros(nx + m)
         r.x, r.lam = a['xs'].ctypes.data, self._lam.ctypes.data
         self.x = a['x']
-        self._state = K.make_solve_state(*(a[f] for f in K.FIELDS))
+        self.solve_state = K.make_solve_state(*(a[f] for f in K.FIELDS))
         # the solve kernel for the state's types, called without the dispatcher's type
         # resolution (utils.jit.entry); again in bind(), for the level's arrays' types
-        self._solve = entry(K.solve, self._state, 0, 0)
+        self._solve = entry(K.solve, self.solve_state, 0, 0)
         self._bound = None  # the level's arrays the state holds (bind)
 
     def write_into(self, x: np.ndarray, base: np.ndarray | None = None) -> None:
@@ -123,39 +123,39 @@ class DirectDAQPBackend(QPBackend):
         self._arrays['x'] = self.x = x
         if base is not None:
             self._arrays['base'] = base
-        self._state = K.make_solve_state(*(self._arrays[f] for f in K.FIELDS))
-        self._solve = entry(K.solve, self._state, 0, 0)
+        self.solve_state = K.make_solve_state(*(self._arrays[f] for f in K.FIELDS))
+        self._solve = entry(K.solve, self.solve_state, 0, 0)
 
     def bind(self, H, g, M, lo, hi) -> None:
         """Read the level's problem from these arrays (the same every cycle)."""
         self._arrays.update(H=H, g=g, M=M, lo=lo, hi=hi)
-        self._state = K.make_solve_state(*(self._arrays[f] for f in K.FIELDS))
-        self._solve = entry(K.solve, self._state, 0, 0)  # for these arrays' types
+        self.solve_state = K.make_solve_state(*(self._arrays[f] for f in K.FIELDS))
+        self._solve = entry(K.solve, self.solve_state, 0, 0)  # for these arrays' types
         self._bound = (H, g, M, lo, hi)
 
     def compile_for(self, H, g, M, lo, hi) -> None:
         """Compile (or load) the kernel for these arrays' types (at configuration)."""
         self.bind(H, g, M, lo, hi)
-        if not self._set_up:
-            self._solve(self._state, 0, 0)
+        if not self.warm:
+            self._solve(self.solve_state, 0, 0)
 
     def reset(self) -> None:
         """Forget the warm start: the next solve sets DAQP up again."""
-        if self._set_up:
+        if self.warm:
             _release(self._lib, self._wbuf, self._work, self._ours)
-            self._set_up = False
+            self.warm = False
             self._ptrs[K.WORK] = 0
 
     def _setup(self) -> int:
         """Set DAQP up on this cycle's problem, as daqp.Model.setup does; DAQP's flag."""
         self.reset()
         lib, p, work = self._lib, self._problem, self._work
-        K.scale(self._state)
+        K.scale(self.solve_state)
         p.sense = self._sense_addr
         # nothing is written into the workspace before its layout is checked: DAQP allocates
         # its own settings here, checked against the defaults, then replaced by ours
         flag = lib.setup(self._p_addr, self._w_addr, None)
-        self._set_up = True  # whatever it allocated is freed by the next reset
+        self.warm = True  # whatever it allocated is freed by the next reset
         if flag < 0:
             self.reset()
             return flag
@@ -172,10 +172,10 @@ class DirectDAQPBackend(QPBackend):
 
     def _run(self, mask: int, cap: int) -> ReturnCode:
         t0 = time.perf_counter()
-        flag, iters = self._solve(self._state, mask, cap)
-        return self._ran(flag, iters, time.perf_counter() - t0)
+        flag, iters = self._solve(self.solve_state, mask, cap)
+        return self.ran(flag, iters, time.perf_counter() - t0)
 
-    def _ran(self, flag: int, iters: int, seconds: float) -> ReturnCode:
+    def ran(self, flag: int, iters: int, seconds: float) -> ReturnCode:
         """Return the code of a solve of ``seconds`` (the time model updated, reset on failure)."""
         self.iterations = iters
         self.record(seconds, iters)
@@ -189,7 +189,7 @@ class DirectDAQPBackend(QPBackend):
             self.reset()  # a failed solve leaves a useless active set: start cold next time
         return code
 
-    def _cold(self, cap: int) -> ReturnCode:
+    def solve_cold(self, cap: int) -> ReturnCode:
         flag = self._setup()
         if flag < 0:
             self.iterations = 0
@@ -207,11 +207,11 @@ class DirectDAQPBackend(QPBackend):
     def solve_bound(self) -> ReturnCode:
         """Solve the problem of the arrays bound last (bind, solve_stacked)."""
         cap = self.iteration_cap()
-        if not self._set_up:
-            return self._cold(cap)
+        if not self.warm:
+            return self.solve_cold(cap)
         code = self._run(daqp_c.UPDATE_ALL, cap)
         if code is not ReturnCode.SUCCESS and self.iterations < cap:
-            code = self._cold(cap - self.iterations)  # once more, cold
+            code = self.solve_cold(cap - self.iterations)  # once more, cold
         return code
 
     def solve_prepared(self, fused, pre, prepared: int):
@@ -224,10 +224,10 @@ class DirectDAQPBackend(QPBackend):
         preparation's flag (an int below ``prepared``) when it did not solve.
         """
         deadline = _NO_DEADLINE if self.deadline is None else self.deadline
-        if not self._set_up:
-            flag = fused(pre, self._state, -1, deadline, 0, 0, self.timing, self.clock)[0]
-            return flag if flag != prepared else self._cold(self.iteration_cap())
-        flag, iters, cap, ns = fused(pre, self._state, daqp_c.UPDATE_ALL, deadline,
+        if not self.warm:
+            flag = fused(pre, self.solve_state, -1, deadline, 0, 0, self.timing, self.clock)[0]
+            return flag if flag != prepared else self.solve_cold(self.iteration_cap())
+        flag, iters, cap, ns = fused(pre, self.solve_state, daqp_c.UPDATE_ALL, deadline,
                                      self.max_iterations, self.min_iterations, self.timing,
                                      self.clock)
         if flag == 1:  # (the time model updated by the kernel)
@@ -243,9 +243,9 @@ class DirectDAQPBackend(QPBackend):
         """
         if flag < prepared:
             return flag
-        code = self._ran(flag, iters, ns * 1e-9)
+        code = self.ran(flag, iters, ns * 1e-9)
         if code is not ReturnCode.SUCCESS and iters < cap:
-            code = self._cold(cap - iters)  # once more, cold
+            code = self.solve_cold(cap - iters)  # once more, cold
         return code
 
     def solve(self, H, g, A, b, C, lc, u, lbox, ubox) -> ReturnCode:

@@ -44,13 +44,13 @@ _NONE = float('inf')  # no deadline
 class FusedStep:
     """The one-call cycle of a CompiledCycle (see the module)."""
 
-    def __init__(self, cycle, controller):
+    def __init__(self, cycle, output):
         self.cycle = cycle
         self.problem = cycle.problem
         self.backend = cycle.problem.backend
-        # the controller's solution, accelerations, torques and command (made with it: a
-        # re-layout of its variables configures it again, and with it this)
-        self.outs = (controller._x, controller._acc, controller._tau, controller._tau_cmd)
+        # the controller's solution, accelerations, torques and command (SolutionOutput's: a
+        # re-layout of its variables configures the cycle again, and with it this)
+        self.outs = (output.x, output.acc, output.tau, output.command)
         self.clock = clock.address()
         # the solution written out by the kernel where no level comes below (else the last
         # level's is, by the controller)
@@ -61,23 +61,23 @@ class FusedStep:
         """Compile (or load) the kernel for the workspace's types (again on a new one)."""
         self.ws = ws
         b, cc = self.backend, self.cycle
-        self._state = st = b._state  # (replaced by the back-end at a re-configuration)
+        self._state = st = b.solve_state  # (replaced by the back-end at a re-configuration)
         self.frame = make_frame(ws, st, b.timing, self.outs, self.clock, b.min_iterations,
                                 self.out)
-        self._step = entry(framed_step, self.frame, 1e-3, 1.0, 1)
-        # the last level's solution written out (Controller._write_out; levels below)
-        self._finish = entry(framed_finish, self.frame, self.outs[0])
-        # the lean cycle (Controller.update): where a cycle is one Pinocchio pass (two_passes)
+        self.kernel = entry(framed_step, self.frame, 1e-3, 1.0, 1)
+        # the last level's solution written out (CompiledCycle.write_out; levels below)
+        self.finish_kernel = entry(framed_finish, self.frame, self.outs[0])
+        # the lean route (CompiledCycle.run): where a cycle is one Pinocchio pass (two_passes)
         # and this kernel (then the cascade, if levels come below), with nothing else in
-        # Python (no contacts, no object updated in Python, no centroidal terms), the
-        # controller runs it inline, without CompiledCycle.update's and this object's frames
-        # and tests: on an arm such as the Panda, the Python around a cycle costs more than
-        # its kernel does
+        # Python (no contacts, no object updated in Python, no centroidal terms), the cycle
+        # runs it inline, without CompiledCycle.update's and this object's frames and tests:
+        # on an arm such as the Panda, the Python around a cycle costs more than its kernel
         self.lean = self.cascade_step = None
-        if (not cc.python and cc._centroidal is None and cc.two_passes and not cc.owns_layout
+        if (not cc.python and cc.centroidal is None and cc.two_passes and not cc.owns_layout
                 and not cc.layout.n_wrenches):
-            self.lean = (cc.tables.watch, cc.robot, cc.data, b, st, self.problem, self.frame,
-                         cc._derive, cc.robot.model, *cycle_passes())
+            self.lean = (cc.tables.watch, cc.robot, cc.robot.buffers, cc.data, b, st,
+                         self.problem, self.frame,
+                         cc.derive, cc.robot.model, *cycle_passes())
             if cc.cascade is not None:  # the levels below in the same call
                 self.cascade_step = CascadeStep.make(self, cc.cascade)
 
@@ -91,12 +91,12 @@ class FusedStep:
         the level's failure handling (``PriorityLevels.first_failed``).
         """
         b = self.backend
-        if b._state is not self._state:
+        if b.solve_state is not self._state:
             self.bind(self.ws)
         b.deadline = deadline
         b.max_iterations = most = max_iterations or b.default_max_iterations
-        return self.took(*self._step(self.frame, dt, _NONE if deadline is None else deadline,
-                                     most))
+        return self.took(*self.kernel(self.frame, dt,
+                                      _NONE if deadline is None else deadline, most))
 
     def took_solved(self, flags, iters: int) -> None:
         """Take a warm solve's success (the kernel's: the time model updated)."""
@@ -118,10 +118,10 @@ class FusedStep:
         if not problem.built_finite:
             code = ReturnCode.NON_FINITE_PROBLEM
         else:
-            code = b._ran(flag, iters, ns * 1e-9)
+            code = b.ran(flag, iters, ns * 1e-9)
             if code is not _SUCCESS and iters < cap:
-                code = b._cold(cap - iters)  # once more, cold
+                code = b.solve_cold(cap - iters)  # once more, cold
             if code is _SUCCESS and self.out:
-                self.cycle.finish(problem.x, *self.outs)
+                self.cycle.write_out(problem.x)
         problem.return_code = code
         return code

@@ -54,8 +54,8 @@ def _construct(*fields):
 def make_level_frame(state, strict, reference=None, banded=None) -> LevelFrame:
     """Return the frame of a level's state and its back-ends (DirectDAQPBackend)."""
     ref, band = reference or strict, banded or strict
-    return _construct(state, strict._state, ref._state, band._state, strict.timing, ref.timing,
-                      strict.clock, strict.min_iterations)
+    return _construct(state, strict.solve_state, ref.solve_state, band.solve_state, strict.timing,
+                      ref.timing, strict.clock, strict.min_iterations)
 
 
 @njit

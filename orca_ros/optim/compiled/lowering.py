@@ -145,7 +145,7 @@ class _Lowered:
         elif st in _INACTIVE:
             on = False
         else:
-            obj._step_ramp(t)
+            obj.step_ramp(t)
             on = obj.state not in _INACTIVE
         if on:
             self.refresh()
@@ -175,13 +175,13 @@ class _Limited(_Lowered):
         self._take_limits()
 
     def _take_limits(self) -> None:
-        lo, hi = self.obj._limits
+        lo, hi = self.obj.limits
         pair = self.tables.lims[self.a]
         pair[0], pair[1] = lo, hi
-        self.obj._limits = self.src = (pair[0], pair[1])
+        self.obj.limits = self.src = (pair[0], pair[1])
 
     def refresh(self) -> None:
-        if self.obj._limits is not self.src:  # set_limits made a new pair
+        if self.obj.limits is not self.src:  # set_limits made a new pair
             self._take_limits()
 
 
@@ -201,7 +201,7 @@ class _Cartesian(_Lowered):
         servo = self.servo = task.servo_controller()
         servo.watch_by(t.watch)
         pid = servo.pid()
-        self.fid = servo._fid
+        self.fid = servo.fid
         frame = robot.model.frames[self.fid]
         rec = t.cart[self.a]
         for attr, start in (('_pose_ref', kernels.POSE_REF), ('_vel_ref', kernels.VEL_REF),
@@ -214,7 +214,7 @@ class _Cartesian(_Lowered):
             _rebind(pid, attr, rec, start)
         rec[kernels.FRAME_R: kernels.FRAME_R + 9] = frame.placement.rotation.reshape(-1)
         rec[kernels.FRAME_P: kernels.FRAME_P + 3] = frame.placement.translation
-        Tb = np.eye(4) if robot._base_is_world else robot._base_static_T
+        Tb = robot.static_base_placement()
         rec[kernels.BASE_R: kernels.BASE_R + 9] = Tb[:3, :3].reshape(-1)
         rec[kernels.BASE_P: kernels.BASE_P + 3] = Tb[:3, 3]
         support = t.cart_sup[self.a]
@@ -233,18 +233,18 @@ class _Cartesian(_Lowered):
     def lowerable(task, robot) -> str:
         if type(task) is not CartesianTask:
             return 'a task type the kernels do not know'
-        if not (robot._base_is_world or robot._base_static):
+        if robot.static_base_placement() is None:
             return 'a Cartesian task in a moving base frame'
-        if task.servo_controller()._fid is None:
+        if task.servo_controller().fid is None:
             return 'a Cartesian task without a control frame'
         return ''
 
     def refresh(self) -> None:
         servo = self.servo
-        if servo is not self.obj._servo or servo._fid != self.fid:
+        if servo is not self.obj.servo_controller() or servo.fid != self.fid:
             self._bind_servo()  # a new servo, or a new control frame
             servo = self.servo
-        if not servo._has_desired:
+        if not servo.has_desired():
             servo.hold_current_pose()  # a task switched on without a target holds its pose
 
 
@@ -269,7 +269,7 @@ class _Joint(_Lowered):
         tables.tab[k, 3] = offset_in(task.f, plan.diag_f)
 
     def refresh(self) -> None:
-        if not self.obj._has_desired:
+        if not self.obj.has_desired():
             self.obj.hold_current_position()
 
 
@@ -289,8 +289,8 @@ class _CoM(_Lowered):
 
     def refresh(self) -> None:
         task = self.obj
-        if not task._has_desired:  # hold the CoM where it is when the task first computes
-            task.robot._update_terms()
+        if not task.has_desired():  # hold the CoM where it is when the task first computes
+            task.robot.update_terms()
             task.set_desired(task.robot.data.com[0])
 
 
@@ -378,7 +378,7 @@ _EXACT = {
 
 def lower(obj):
     """Return the kernel-side object of ``obj``, or (None, why it stays in Python)."""
-    if obj._cb_begin is not None or obj._cb_end is not None:
+    if obj.compute_begin_cb is not None or obj.compute_end_cb is not None:
         return None, 'compute callbacks'
     if isinstance(obj, CartesianTask):
         why = _Cartesian.lowerable(obj, obj.robot)

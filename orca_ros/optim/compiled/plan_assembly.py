@@ -46,8 +46,8 @@ class PlanAssembly:
         self.n0 = plan.level_rows[0].stop if plan.level_rows else 0
         self.nd0 = 1 + (len(plan.diagonal[0]) if plan.diagonal else 0)
         self.cons = plan.eq + plan.ineq
-        rows = [(1, r.start, r.stop - r.start) for r in plan._eq_rows] + [
-            (0, plan.n_eq + r.start, r.stop - r.start) for r in plan._in_rows
+        rows = [(1, r.start, r.stop - r.start) for r in plan.eq_rows] + [
+            (0, plan.n_eq + r.start, r.stop - r.start) for r in plan.in_rows
         ]
         self.con_tab = np.array([[e, r0, n, 0] for e, r0, n in rows], dtype=i64).reshape(-1, 4)
         self.con_on = np.zeros(max(1, len(self.cons)), dtype=i64)
@@ -78,7 +78,7 @@ class PlanAssembly:
             for i, t in enumerate(tasks):
                 on = t.state not in _INACTIVE
                 nw[i] = t.weight if on else 0.0
-                ew[i] = t.weight * t._ramp_factor if on else 0.0
+                ew[i] = t.weight * t.ramp_factor if on else 0.0
         on = self.con_on
         for i, c in enumerate(self.cons):
             on[i] = c.state not in _INACTIVE

@@ -14,7 +14,7 @@
 """
 The robot's state input by kernel: what :mod:`orca_ros.robot.state_input` does per cycle.
 
-A compiled cycle gives its robot this kernel (``RobotModel._state_kernel``): the common state
+A compiled cycle gives its robot this kernel (``StateBuffers.state_kernel``): the common state
 inputs on a robot without continuous joints, ``set_configuration(q, v)`` (float64 vectors of the
 right sizes, any strides), a fixed base's ``set_robot_state(q, v)`` and a floating base's
 ``set_robot_state(world_H_base, q, base_twist, v, gravity)`` at the robot's gravity (contiguous
@@ -209,7 +209,7 @@ class StateKernel:
     The robot's fast state input (see the module); compiled or loaded when made.
 
     Made for one Pinocchio model of the robot (its arrays and sizes): a new model comes with
-    a new one (``RobotModel._state_kernel`` is reset with the model).
+    a new one (``StateBuffers.state_kernel`` is made anew with the model).
 
     ``RobotModel.set_configuration`` calls :attr:`take` inline (it runs every cycle): on
     ``(q, v)`` whose type is exactly ``np.ndarray``, whose dtype is float64 itself and whose
@@ -220,20 +220,21 @@ class StateKernel:
     """
 
     def __init__(self, robot, tol: float):
-        self.robot = r = robot
+        r = robot
+        self.buffers = b = r.buffers
         nq, nv, self.ndof, self.nb = r.model.nq, r.model.nv, r.ndof, r.nbase
         # no continuous joints (cos, sin in q_pin) and, for joint_state, a fixed base
-        self.simple = r._q_simple
-        self.fixed = r._q_simple and not r.floating_base
+        self.simple = b.q_simple
+        self.fixed = b.q_simple and not r.floating_base
         self.shapes = ((nq,), (nv,)) if self.simple else None
-        self.arrays = _robot_arrays(r._q_pin, r._v_pin, r._q, r._v, r.nbase, tol)
+        self.arrays = _robot_arrays(b.q_pin, b.v_pin, b.q, b.v, r.nbase, tol)
         self.take = entry(configuration, _strided(nq), _strided(nv), self.arrays)
-        self._joint_state = entry(joint_state, r._q.copy(), r._v.copy(), self.arrays)
+        self._joint_state = entry(joint_state, b.q.copy(), b.v.copy(), self.arrays)
         self._base_state = None
         if self.simple and r.floating_base:
-            self._base_state = entry(base_state, np.eye(4), r._q.copy(), np.zeros(6),
-                                     r._v.copy(), self.arrays, r._world_H_base,
-                                     r._base_twist_world)
+            self._base_state = entry(base_state, np.eye(4), b.q.copy(), np.zeros(6),
+                                     b.v.copy(), self.arrays, b.world_H_base,
+                                     b.base_twist_world)
 
     def joint_state(self, q, v) -> bool:
         """Take a fixed base's (q, v): True when taken; False: the Python path's."""
@@ -242,9 +243,9 @@ class StateKernel:
             q, v, self.arrays
         ) != _OK:
             return False
-        r = self.robot
-        r._stamp += 1
-        r._initialized = True
+        b = self.buffers
+        b.stamp += 1
+        b.initialized = True
         return True
 
     def full_state(self, T, q, twist, v, g) -> bool:
@@ -255,20 +256,20 @@ class StateKernel:
         C-contiguous float64 arrays of the right shapes; False: the Python path's (which names a
         refused state).
         """
-        r, n = self.robot, self.ndof
+        b, n = self.buffers, self.ndof
         if self._base_state is None or not (
             _fits(q, n) and _fits(v, n) and _fits(twist, 6) and type(T) is np.ndarray
             and T.shape == (4, 4) and T.dtype == _F64 and T.flags.c_contiguous
             and type(g) is np.ndarray and g.shape == (3,)
         ):
             return False
-        rg = r._gravity
+        rg = b.gravity
         if not (g[0] == rg[0] and g[1] == rg[1] and g[2] == rg[2]):
             return False
-        if self._base_state(T, q, twist, v, self.arrays, r._world_H_base,
-                            r._base_twist_world) != _OK:
+        if self._base_state(T, q, twist, v, self.arrays, b.world_H_base,
+                            b.base_twist_world) != _OK:
             return False
-        r._base_from_q_pin = False
-        r._stamp += 1
-        r._initialized = True
+        b.base_from_q_pin = False
+        b.stamp += 1
+        b.initialized = True
         return True
