@@ -224,7 +224,7 @@ class Meshes:
                 g.geometry.buildConvexHull(True, 'Qt')
                 hull = g.geometry.convex
             self._hull.append(hull)
-        self._centre, self._radius = np.array(centres), np.array(radii)
+        self.sphere_centre, self.sphere_radius = np.array(centres), np.array(radii)
         self._at, self._where = [], np.zeros((len(self.objects), 3))
 
     def adjacent(self, i: int, j: int) -> bool:
@@ -244,7 +244,7 @@ class Meshes:
         pin.updateGeometryPlacements(self.model, self.data, self.gm, self.gd, q_pin)
         self._at = [coal.Transform3s(M) for M in self.gd.oMg]
         for i, M in enumerate(self.gd.oMg):
-            self._where[i] = M.rotation @ self._centre[i] + M.translation
+            self._where[i] = M.rotation @ self.sphere_centre[i] + M.translation
 
     @staticmethod
     def _coal(a, at_a, b, at_b) -> float:
@@ -270,8 +270,8 @@ class Meshes:
         """
         best, which = below, None
         for i, j in pairs:
-            gap = (np.linalg.norm(self._where[i] - self._where[j]) - self._radius[i]
-                   - self._radius[j])
+            gap = (np.linalg.norm(self._where[i] - self._where[j]) - self.sphere_radius[i]
+                   - self.sphere_radius[j])
             if gap >= best:
                 continue
             d = self._distance(i, self.objects[j].geometry, self._at[j], self._hull[j], best)
@@ -285,7 +285,7 @@ class Meshes:
         best = np.inf
         for i in range(len(self.objects)):
             limit = min(best, below)
-            if np.linalg.norm(self._where[i] - centre) - self._radius[i] - radius >= limit:
+            if np.linalg.norm(self._where[i] - centre) - self.sphere_radius[i] - radius >= limit:
                 continue
             best = min(best, self._distance(i, ball, at, None, limit))
         return best

@@ -18,7 +18,7 @@ A refactor must keep the speed of the control cycle (issue 40, acceptance 4: wit
 commit before the change). The commit REF is checked out in a worktree of its own,
 /tmp/orca-tree-<short sha> (made with ``git worktree add --detach`` if it is not there yet,
 reused otherwise; a fresh one first fills its kernels' disk cache with
-``python -m orca_ros.optim.compiled.warm``, minutes on a busy machine). Every measurement is one
+``python -m orca_ros.warm``, minutes on a busy machine). Every measurement is one
 process run in the tree's root with the tree's root first on PYTHONPATH, which checks that it
 imported that tree's ``orca_ros`` (not the editable install of the venv) and stops otherwise. The
 jobs, each process giving one median per cycle or step (microseconds):
@@ -130,7 +130,10 @@ def child(job: str, case: str, steps: int | None, cycles: int) -> int:
     if job == 'warm':
         sys.path[0] = root  # as ``python -m`` in the tree's root
         sys.argv = ['warm']
-        runpy.run_module('orca_ros.optim.compiled.warm', run_name='__main__')
+        # (orca_ros.warm since issue 40; orca_ros.optim.compiled.warm in the trees before)
+        new = os.path.exists(os.path.join(root, 'orca_ros', 'warm.py'))
+        runpy.run_module('orca_ros.warm' if new else 'orca_ros.optim.compiled.warm',
+                         run_name='__main__')
         return 0
     cases = [c for j, c in measurements([job])] if case == 'warmup' else [case]
     if case == 'warmup':

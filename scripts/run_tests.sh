@@ -15,7 +15,7 @@ if [ ! -x /usr/bin/chromium ] || [ ! -x /usr/bin/chromedriver ]; then
   fi
 fi
 # the compiled cycle's kernels into their disk cache first: no test's timing includes a cold compile
-python -m orca_ros.optim.compiled.warm
+python -m orca_ros.warm
 set +e
 python -m pytest -q --durations=40 test "$@"
 rc=$?

@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-Collision avoidance by kernel (optim/compiled/collision.py) against its Python reference.
+Collision avoidance by kernel (constraint/collision_kernel.py) against its Python reference.
 
 Two controllers of one configuration, compiled and not, fed the same states: the same pairs, rows,
 bounds and torques, to 1e-9 relative. On random states (every pair's distance computed again: the
@@ -47,8 +47,9 @@ def _gamma(n):
 
 #: |kernel's oMg - oMi[joint] * placement| <= PLACEMENT_ROUNDING * |oMi[joint]| |placement|
 #: (entrywise, 4x4 homogeneous). Both sides compose the same two placements: the kernel
-#: (collision_screen._place) in its own order, Pinocchio's product (updateGeometryPlacements')
-#: in Eigen's, maybe vectorised or fused (FMA). Each entry is a sum of at most 4 products
+#: (collision_screen_kernel._place) in its own order, Pinocchio's product
+#: (updateGeometryPlacements') in Eigen's, maybe vectorised or fused (FMA). Each entry is a sum
+#: of at most 4 products
 #: (R_ij = sum_k R1_ik R2_kj; t_i = t1_i + sum_k R1_ik t2_k), within gamma_4 times the sum of
 #: their magnitudes of the exact one in any order, fused or not: the two within 2 gamma_4 of each
 #: other; gamma_5 >= gamma_4 (1 + u) also covers the rounding of the bound's own product.
@@ -139,8 +140,8 @@ def _distance_slack(k1, k2, names, d):
     rl, moved, scale = abs(d), 0.0, 0.0
     for name in names:
         g = g2.geom_model.getGeometryId(name)
-        radius = g2._radius[g]  # (swept sphere included)
-        reach = np.linalg.norm(g2._centre[g]) + radius  # every point of the body within it
+        radius = g2.sphere_radius[g]  # (swept sphere included)
+        reach = np.linalg.norm(g2.sphere_centre[g]) + radius  # every point of the body within it
         M1, M2 = g1.geom_data.oMg[g], g2.geom_data.oMg[g]
         moved += (np.linalg.norm(M1.translation - M2.translation)
                   + np.linalg.norm(M1.rotation - M2.rotation, 2) * reach)
@@ -383,7 +384,7 @@ def test_kernels_follow_obstacles_added_and_removed(example_robot_urdf):
 
 def test_a_view_lost_mid_run_falls_back_to_python(example_robot_urdf, monkeypatch):
     """A rebuild whose views do not check out: one error line, then the rows in Python."""
-    from orca_ros.optim.compiled import collision as ck
+    from orca_ros.constraint import collision_kernel as ck
 
     case = CASES['panda']
     pair = _pair(example_robot_urdf(case[0]), example_robot_urdf(case[1]), case[2], False)

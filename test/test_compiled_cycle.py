@@ -139,7 +139,7 @@ def test_compiled_equals_reference_on_random_states(case, strategy, example_robo
             cycle = c1.compiled_cycle
             assert cycle is not None and not cycle.in_python, cycle.describe()
             # no CoM task, every object by kernel: crba and nonLinearEffects, not
-            # computeAllTerms (optim/compiled/terms.py), with the same torques
+            # computeAllTerms (robot/terms_kernel.py), with the same torques
             assert cycle.two_passes, cycle.describe()
         assert c1.solution_found() == c2.solution_found()
         if not ok:
@@ -168,12 +168,17 @@ def test_compiled_equals_reference_on_random_states(case, strategy, example_robo
 
 @pytest.mark.parametrize('floating', [False, True])
 def test_no_kernel_compiles_in_a_control_cycle(lwr_urdf, floating):
-    from orca_ros.optim.compiled import assembly, fill, kernels
+    from orca_ros.constraint import joint_limit_kernel, viable_bound_kernel
+    from orca_ros.math import rotations_kernel
+    from orca_ros.optim.compiled import assembly, fill
+    from orca_ros.servo import pid_kernel
+    from orca_ros.task import cartesian_kernel, joint_acceleration_kernel
 
     def signatures():
         return {
             (m.__name__, k): len(f.signatures)
-            for m in (assembly, fill, kernels)
+            for m in (assembly, fill, cartesian_kernel, joint_acceleration_kernel,
+                      joint_limit_kernel, viable_bound_kernel, pid_kernel, rotations_kernel)
             for k, f in vars(m).items()
             if hasattr(f, 'signatures')
         }
@@ -221,7 +226,7 @@ def test_python_only_objects_still_run_beside_the_kernels(lwr_urdf):
 
 def test_log3_is_pinocchios():
     """The kernels' rotation logarithm against pinocchio.log3: generic, near 0 and near pi."""
-    from orca_ros.optim.compiled.kernels import log3
+    from orca_ros.math.rotations_kernel import log3
 
     rng = np.random.default_rng(3)
     out, scratch, worst = np.zeros(3), np.zeros((3, 3)), {}
@@ -455,7 +460,8 @@ def test_two_pinocchio_passes_give_what_compute_all_terms_gives(example_robot_ur
     Fixed and floating bases (Panda, Solo, Talos): the placements, velocities, Jacobians, mass
     matrix, nonlinear effects and drifts the kernels read, on random states, to 1e-12 relative.
     """
-    from orca_ros.optim.compiled import fill, terms
+    from orca_ros.robot import terms_kernel as terms
+    from orca_ros.robot.data_views import data_views
 
     for path, floating in (('panda_description/urdf/panda.urdf', False),
                            ('solo_description/robots/solo12.urdf', True),
@@ -463,7 +469,7 @@ def test_two_pinocchio_passes_give_what_compute_all_terms_gives(example_robot_ur
         robot = orca.RobotModel()
         robot.load_model_from_file(example_robot_urdf(path), floating_base=floating)
         model = robot.model
-        assert terms.matches(model, lambda d: fill.data_views(model, d)), path
+        assert terms.matches(model, lambda d: data_views(model, d)), path
         rng = np.random.default_rng(3)
         full, two = model.createData(), model.createData()
         for _ in range(20):
@@ -471,7 +477,7 @@ def test_two_pinocchio_passes_give_what_compute_all_terms_gives(example_robot_ur
             v = rng.normal(0.0, 2.0, model.nv)
             pin.computeAllTerms(model, full, q, v)
             terms.two_passes(model, two, q, v)
-            fv, tv = fill.data_views(model, full), fill.data_views(model, two)
+            fv, tv = data_views(model, full), data_views(model, two)
             terms.drift(tv[0], tv[3], tv[2], model.gravity.linear.copy())
             for a, b in ((full.M, two.M), (full.nle, two.nle), (full.J, two.J),
                          (fv[0], tv[0]), (fv[1], tv[1]), (fv[2], tv[2])):

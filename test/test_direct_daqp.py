@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-DAQP's C solve by kernel (optim/compiled/direct_daqp.py) against the daqp package's wrapper.
+DAQP's C solve by kernel (optim/solvers/direct_daqp.py) against the daqp package's wrapper.
 
 The same QPs in the same order through both: the same return codes and the same solutions,
 warm starts, failures and cold restarts included; a wrong structure layout is refused before
@@ -30,7 +30,7 @@ import pytest
 pytest.importorskip('numba')
 pytest.importorskip('daqp')
 
-from orca_ros.optim.compiled import daqp_c, direct_daqp  # noqa: E402,I100
+from orca_ros.optim.solvers import daqp_c, direct_daqp  # noqa: E402,I100
 
 
 def _qp(rng, nx, ne, ni, infeasible=False):

@@ -35,7 +35,7 @@ import pytest
 pytest.importorskip('numba')
 pytest.importorskip('daqp')
 
-from orca_ros.optim.compiled import clock  # noqa: E402,I100
+from orca_ros.optim.solvers import clock  # noqa: E402,I100
 
 Q0 = np.array([0.0, 0.5, 0.0, -1.2, 0.0, 0.6])
 

@@ -72,7 +72,7 @@ def _warnings(procs, what):
 
 def _reach_time(probe, target, t0, seconds):
     """
-    Sim time the end effector took from its first step towards target to within 1 mm of it for good.
+    Sim time the end effector took from its first step towards target to within 1 mm for good.
 
     Counted from the first state after t0 that is 0.1 mm nearer the target than the state at t0,
     not from t0: the time the target took to reach the controller (its discovery, longer on a

@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-The state input by kernel (optim/compiled/state_kernel.py) against the Python path.
+The state input by kernel (robot/state_input_kernel.py) against the Python path.
 
 Two robots, one with the kernel a compiled cycle gives it and one without, take the same states:
 the same Pinocchio configuration, velocity, joint state and kinematics, bit for bit; a state the
@@ -28,7 +28,7 @@ import pytest
 
 pytest.importorskip('numba')
 
-from orca_ros.optim.compiled.state_kernel import StateKernel  # noqa: E402,I100
+from orca_ros.robot.state_input_kernel import StateKernel  # noqa: E402,I100
 
 
 def _pair(urdf, floating=False):

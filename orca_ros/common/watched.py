@@ -23,7 +23,27 @@ through an attribute assignment, whichever method or user code makes it.
 
 from __future__ import annotations
 
+import numpy as np
+
 _MISSING = object()
+
+
+def keep_in(owner, record: np.ndarray, starts: dict) -> None:
+    """
+    Keep ``owner``'s arrays in ``record``: each ``owner._<name>`` becomes a view on ``record``.
+
+    ``starts`` maps a name to where its values start in the 1-D ``record``; each array's values
+    are copied there first and its shape kept. The owner's methods then read and write the
+    record in place, and so does the compiled cycle's kernel that fills the record (the
+    lowering of a task, a servo or a PID: :mod:`orca_ros.common.lowered`). Called by the owner
+    on itself (``keep_in``): its own fields, its own method.
+    """
+    for name, start in starts.items():
+        attr = '_' + name
+        value = np.asarray(getattr(owner, attr), dtype=float)
+        view = record[start: start + value.size]
+        view[:] = value.reshape(-1)
+        object.__setattr__(owner, attr, view.reshape(value.shape))
 
 
 class Touched:
@@ -45,6 +65,10 @@ class Watched:
         if w is not None and getattr(self, name, _MISSING) is not value:
             w.touched = True
         object.__setattr__(self, name, value)
+
+    def keep_in(self, record: np.ndarray, starts: dict) -> None:
+        """Keep this object's arrays named in ``starts`` in ``record`` (see :func:`keep_in`)."""
+        keep_in(self, record, starts)
 
     def watch_by(self, flag: Touched | None) -> None:
         """Report changes to ``flag`` (None: to nobody)."""

@@ -31,10 +31,8 @@ import math
 
 import numpy as np
 
+from .viable_bound import FAR as _FAR  # rooms are clipped to this before the arithmetic
 from ..utils.jit import njit
-
-# rooms are clipped to this before the arithmetic (as viable_bound._FAR)
-_FAR = 1e6
 
 
 @njit

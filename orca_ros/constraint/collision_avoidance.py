@@ -44,6 +44,8 @@ before the safety distance: :meth:`pair_limits`): its torques change continuousl
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import pinocchio as pin
 
@@ -70,6 +72,17 @@ def _cross(a, b):
     """Return the cross product of two 3-vectors (numpy's cross costs far more on these)."""
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
                      a[0] * b[1] - a[1] * b[0]])
+
+
+class RowArrays(NamedTuple):
+    """A collision constraint's rows written: pairs, distances, count; the last cycle's rows."""
+
+    sel: np.ndarray
+    seld: np.ndarray
+    written: np.ndarray
+    lastC: np.ndarray
+    last_sel: np.ndarray
+    last_seld: np.ndarray
 
 
 class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
@@ -108,7 +121,7 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         self.geometry: CollisionGeometry | None = None
         self._pending: dict = {}  # obstacles added before the robot is known
         self._moving: dict = {}  # name -> (pose, velocity, time of the pose): moved each cycle
-        self._kernels = None  # the compiled cycle's (optim/compiled/collision.py), if any
+        self._kernels = None  # the compiled cycle's (constraint/collision_kernel.py), if any
         self._leaving: list = []  # (row, bound) of removed obstacles' pairs, relaxing away
         # rows written in the last cycle: pairs _sel[:_m] at distances _seld[:_m] (an array: an
         # attribute set every cycle would tell the compiled cycle the constraint changed)
@@ -136,6 +149,16 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
                 for k, d in zip(self._sel[:self._m], self._seld[:self._m])]
 
     _m = property(lambda self: int(self._written[0]))
+
+    def row_arrays(self) -> RowArrays:
+        """
+        Return the arrays of the rows written, which the kernels read and write in place.
+
+        The pairs and distances of the rows written this cycle and how many (``written[0]``),
+        and the last cycle's rows (see :meth:`hold_departed`). Made anew with ``C`` (resize).
+        """
+        return RowArrays(self._sel, self._seld, self._written, self._lastC, self._last_sel,
+                         self._last_seld)
 
     def explain(self) -> str:
         """Name the pairs of the last cycle's rows within the safety distance, closest first."""
@@ -385,7 +408,7 @@ class CollisionAvoidanceConstraint(RowRelaxation, GenericConstraint):
         safety distance. An obstacle's pairs keep the safety distance: an obstacle moves, and one
         seen late or sparsely jumps in; it is braked back out (safety first: held where found,
         a sparsely posed ball went further into the hand at each pose). The
-        kernels (``optim/compiled/collision.py``) keep the same floors.
+        kernels (``constraint/collision_kernel.py``) keep the same floors.
         """
         safety = self.settings[1]
         if d >= safety or not self.geometry.is_self_pair(k):

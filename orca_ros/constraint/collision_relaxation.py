@@ -19,7 +19,7 @@ A mixin of :class:`~.collision_avoidance.CollisionAvoidanceConstraint` (its arra
 pair's last bound and the cycle it was set in, kept across obstacles coming and going; the rows of
 removed obstacles (``_leave``) and of pairs that left the rows (``hold_departed``), their bounds
 relaxing at max_deceleration / horizon per second until they let go. The compiled cycle's kernels
-(``optim/compiled/collision.py``) do the same on the same arrays.
+(``constraint/collision_kernel.py``) do the same on the same arrays.
 """
 
 from __future__ import annotations

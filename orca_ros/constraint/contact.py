@@ -275,6 +275,11 @@ class Contact(NormalForceRamp, ContactBase):
         self._faces = d - mu_eff * n  # rows: (d_k - mu_eff n) . f <= 0
         self.mu_effective = mu_eff
 
+    @property
+    def faces(self) -> np.ndarray:
+        """Return the friction pyramid's faces, one row a_k per face: a_k . f <= 0 inside."""
+        return self._faces.copy()
+
     # -------------------------------------------------------------- rows
     def rows(self) -> int:
         return self.n_faces + 1

@@ -16,7 +16,7 @@ The joints' capacity for a row of accelerations: each coordinate's at its torque
 
 A bound on a row of joint accelerations that asks for more than the joints' torques allow makes
 the QP infeasible; :func:`row_capacity` is what such a bound is capped at (the collision rows:
-:mod:`.collision_avoidance`, and their kernels in ``optim/compiled/collision.py``).
+:mod:`.collision_avoidance`, and their kernels in ``constraint/collision_kernel.py``).
 """
 
 from __future__ import annotations

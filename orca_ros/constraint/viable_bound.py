@@ -52,9 +52,9 @@ from __future__ import annotations
 import numpy as np
 
 # rooms are clipped to this before the arithmetic (no inf - inf); their bound is set to +inf after
-_FAR = 1e6
+FAR = 1e6
 # the braking margin's time constant, a share of the horizon
-_MARGIN_SHARE = 0.5
+MARGIN_SHARE = 0.5
 
 
 class ViableBound:
@@ -84,7 +84,7 @@ class ViableBound:
         out,
         one_step: bool = True,
         viable: bool = True,
-        margin_share: float = _MARGIN_SHARE,
+        margin_share: float = MARGIN_SHARE,
         brake_when_spent: bool = False,
         margin: bool = True,
     ) -> np.ndarray:
@@ -106,8 +106,8 @@ class ViableBound:
             np.multiply(self._acc, dt * dt, out=self._acc_dt2)
             np.multiply(self._acc, -2.0, out=self._acc_m2)
             np.negative(self._acc, out=self._acc_neg)
-        np.greater_equal(room, _FAR, out=self._far)
-        np.minimum(room, _FAR, out=R)
+        np.greater_equal(room, FAR, out=self._far)
+        np.minimum(room, FAR, out=R)
         dt2 = dt * dt
         np.multiply(v, dt, out=a)
         np.subtract(R, a, out=a)  # a: room - dt v

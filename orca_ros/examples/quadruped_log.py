@@ -65,7 +65,7 @@ def record_step(log, qc, sim_model, t, target, foot_radius: float) -> None:
     F = qc.contact_forces()
     log.forces.append(F)
     log.bounds.append([qc.contacts[leg].normal_force_bound() for leg in legs])
-    log.cone.append([np.max(qc.contacts[leg]._faces @ F[i]) for i, leg in enumerate(legs)])
+    log.cone.append([np.max(qc.contacts[leg].faces @ F[i]) for i, leg in enumerate(legs)])
     log.tau.append(qc.controller.get_joint_torque_command())
     log.loaded.append([qc.contacts[leg].is_activated() for leg in legs])
     log.dynamics.append(dynamics_residual(qc.controller))

@@ -31,8 +31,8 @@ apart than they may matter (the influence distance, further for a pair closing f
 ``computeDistance`` on the pair, in C++: building coal's transforms and result in Python for
 ``coal.distance`` costs several times the distance itself): distance, witness points and the normal
 from the first body to the second. The compiled cycle screens the pairs and reads the results by
-kernel (:mod:`orca_ros.optim.compiled.collision`); ``version`` counts the rebuilds of ``geom_data``
-(obstacles added or removed), after which it takes its views again.
+kernel (:mod:`orca_ros.constraint.collision_kernel`); ``version`` counts the rebuilds of
+``geom_data`` (obstacles added or removed), after which it takes its views again.
 """
 
 from __future__ import annotations
@@ -217,11 +217,14 @@ class CollisionGeometry:
             c, r = _bounding_sphere(g.geometry)
             bounds.append((c, r + self.rounding, _bounding_capsule(g.geometry)))
         self._robot_bounds = bounds[:self.n_robot]
-        self._centre = np.array([b[0] for b in bounds]).reshape(-1, 3)
-        self._radius = np.array([b[1] for b in bounds])
-        self._capsule = np.array([b[2] for b in bounds]).reshape(-1, 7)
-        self._capsule[:, 6] += self.rounding
-        self._joint = [int(g.parentJoint) for g in gm.geometryObjects]
+        # each geometry's bounding sphere (centre in its joint's frame, radius with the rounding),
+        # capsule ([end, end, radius], in the geometry's frame) and joint: read by the kernels,
+        # new arrays at each rebuild (version)
+        self.sphere_centre = np.array([b[0] for b in bounds]).reshape(-1, 3)
+        self.sphere_radius = np.array([b[1] for b in bounds])
+        self.capsule = np.array([b[2] for b in bounds]).reshape(-1, 7)
+        self.capsule[:, 6] += self.rounding
+        self.joint = [int(g.parentJoint) for g in gm.geometryObjects]
         cp = gm.collisionPairs
         self._first = np.array([p.first for p in cp], dtype=int)
         self._second = np.array([p.second for p in cp], dtype=int)
@@ -275,8 +278,8 @@ class CollisionGeometry:
         if not bodies:
             return 0.0, ''
         places = [oMi[objects[i].parentJoint] * objects[i].placement for i in bodies]
-        centres = np.array([M.act(self._centre[i]) for M, i in zip(places, bodies)])
-        overlap = (radius + self._radius[bodies] - rounding
+        centres = np.array([M.act(self.sphere_centre[i]) for M, i in zip(places, bodies)])
+        overlap = (radius + self.sphere_radius[bodies] - rounding
                    - np.linalg.norm(centres - centre, axis=1))
         deepest = (0.0, '')
         request = coal.DistanceRequest()
@@ -349,9 +352,9 @@ class CollisionGeometry:
         have a small bound, though each moves fast. ``centres``: the geometries' sphere centres.
         """
         v = data.v
-        ng = len(self._joint)
+        ng = len(self.joint)
         vc, w = self.velocity.copy(), np.zeros((ng, 3))
-        for g, j in enumerate(self._joint):
+        for g, j in enumerate(self.joint):
             if j:
                 M = data.oMi[j]
                 w[g] = M.rotation @ v[j].angular
@@ -360,8 +363,8 @@ class CollisionGeometry:
         dw = np.linalg.norm(w[b] - w[a], axis=1)
         at_a = vc[b] + np.cross(w[b], centres[a] - centres[b]) - vc[a]
         at_b = vc[b] - vc[a] - np.cross(w[a], centres[b] - centres[a])
-        return np.minimum(np.linalg.norm(at_a, axis=1) + dw * self._radius[a],
-                          np.linalg.norm(at_b, axis=1) + dw * self._radius[b])
+        return np.minimum(np.linalg.norm(at_a, axis=1) + dw * self.sphere_radius[a],
+                          np.linalg.norm(at_b, axis=1) + dw * self.sphere_radius[b])
 
     def closest(self, data, limit_of):
         """
@@ -377,10 +380,10 @@ class CollisionGeometry:
         if not len(self._first):
             return []
         oMg = gd.oMg
-        centres = np.array([oMg[i].act(self._centre[i]) for i in range(gm.ngeoms)])
+        centres = np.array([oMg[i].act(self.sphere_centre[i]) for i in range(gm.ngeoms)])
         limit = limit_of(self.closing_bound(data, centres))
         gap = (np.linalg.norm(centres[self._first] - centres[self._second], axis=1)
-               - self._radius[self._first] - self._radius[self._second])
+               - self.sphere_radius[self._first] - self.sphere_radius[self._second])
         out = []
         for k in np.flatnonzero(gap < limit).tolist():
             res = pin.computeDistance(gm, gd, k)

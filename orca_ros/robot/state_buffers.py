@@ -16,7 +16,7 @@ The state a :class:`~orca_ros.robot.robot_model.RobotModel` holds for its curren
 
 What Pinocchio's ``Data`` is to its ``Model``: buffers sized once for the model, written by the
 state input (:mod:`.state_input`, or the compiled cycle's kernel,
-:mod:`orca_ros.optim.compiled.state_kernel`) and read by the algorithms of the cycle. Readers
+:mod:`.state_input_kernel`) and read by the algorithms of the cycle. Readers
 outside the robot package treat them as read-only views valid until the next state change.
 
 * ``q_pin`` (nq), ``v_pin`` (nv): the state in Pinocchio's convention (a floating base: position,

@@ -29,7 +29,7 @@ Two conventions are accepted:
 Every value is checked (shape, finite) before anything is written: a rejected state leaves the
 previous one. These run every control cycle: each check costs one reduction, the slow exact test
 runs only to name a fault. A compiled cycle gives the robot a kernel for the common inputs
-(``robot.buffers.state_kernel``, :mod:`orca_ros.optim.compiled.state_kernel`): the same checks and
+(``robot.buffers.state_kernel``, :mod:`.state_input_kernel`): the same checks and
 writes in one call; what it refuses comes here to be named.
 """
 

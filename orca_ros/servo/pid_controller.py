@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..common.watched import keep_in
+
 
 def _as_gain(value, dim: int, what: str) -> np.ndarray:
     g = np.asarray(value, dtype=float).reshape(-1)
@@ -71,6 +73,16 @@ class PIDController:
 
     def get_windup_limit(self) -> np.ndarray:
         return self._windup.copy()
+
+    def keep_in(self, record: np.ndarray, starts) -> None:
+        """
+        Keep P, I, D, the windup limits and the integral in ``record``, at ``starts`` (that order).
+
+        Each becomes a view on its ``dimension`` values of the record (the compiled cycle's
+        kernel, :func:`.pid_kernel.pid_command`, computes this PID there); the setters write in
+        place.
+        """
+        keep_in(self, record, dict(zip(('p', 'i', 'd', 'windup', 'integral'), starts)))
 
     def reset(self) -> None:
         self._integral[:] = 0.0

@@ -255,7 +255,8 @@ class SimModel(ContactsMixin):
                 self.body, self._joint_ids, pybullet.VELOCITY_CONTROL, forces=[0.0] * self.ndof
             )
 
-    def _apply_commands(self) -> None:
+    def apply_commands(self) -> None:
+        """Send this step's commands to the simulator (the server calls it before each step)."""
         if self._brakes:
             forces = [e if e > 0 else 1e3 for e in self._effort]
             self.client.setJointMotorControlArray(
@@ -288,7 +289,8 @@ class SimModel(ContactsMixin):
             self._q[k] = s[0]
             self._v[k] = s[1]
 
-    def _after_step(self, n: int, t: float, dt: float) -> None:
+    def after_step(self, n: int, t: float, dt: float) -> None:
+        """Read the joints after step ``n`` (time ``t``) and call this model's callbacks."""
         self._read_joints()
         for cb in self._callbacks:
             cb(n, t, dt)

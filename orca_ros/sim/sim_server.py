@@ -104,12 +104,12 @@ class SimServer:
         dt = self.time_step
         for _ in range(n):
             for m in self.models:
-                m._apply_commands()
+                m.apply_commands()
             self.client.stepSimulation()
             self.iteration += 1
             self.sim_time = self.iteration * dt
             for m in self.models:
-                m._after_step(self.iteration, self.sim_time, dt)
+                m.after_step(self.iteration, self.sim_time, dt)
             for cb in self._callbacks:
                 cb(self.iteration, self.sim_time, dt)
 

@@ -30,6 +30,7 @@ from __future__ import annotations
 import glob
 import hashlib
 import os
+import pickle
 
 from .optional_import import optional_import
 
@@ -39,8 +40,13 @@ caching = optional_import('numba.core.caching', 'the compiled control cycle')
 _PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _SOURCES = sorted(
     glob.glob(os.path.join(_PACKAGE, 'optim', 'compiled', '*.py'))
-    + glob.glob(os.path.join(_PACKAGE, '*', '*_kernel.py'))
-    + [os.path.join(_PACKAGE, 'optim', 'solvers', 'time_model.py'), os.path.abspath(__file__)]
+    + glob.glob(os.path.join(_PACKAGE, '**', '*_kernel.py'), recursive=True)
+    # what the kernels read from other files: constants, structures, the solver's C binding
+    + [os.path.join(_PACKAGE, *path.split('/')) for path in (
+        'optim/solvers/time_model.py', 'optim/solvers/clock.py', 'optim/solvers/daqp_c.py',
+        'optim/solvers/direct_daqp.py', 'common/lowered.py', 'constraint/viable_bound.py',
+        'utils/struct_type.py', 'utils/jit.py',
+    )]
 )
 
 
@@ -72,6 +78,26 @@ def _stamped(base):
     return Locator
 
 
+def _tolerant(load_index):
+    """
+    Wrap numba's index loading: an index it cannot read back is a stale one, not an error.
+
+    numba unpickles a cache index before it compares its stamp; an index written by another
+    version of this package may name a module or class that is gone since (a kernel moved to
+    another file), and unpickling it raises. Such an index is out of date whatever its stamp:
+    read as empty, the kernel compiles and the index is written anew.
+    """
+    def _load_index(self):
+        try:
+            return load_index(self)
+        except (ImportError, AttributeError, EOFError, pickle.UnpicklingError):
+            return {}
+
+    _load_index.orca_tolerant = True
+    _load_index.original = load_index
+    return _load_index
+
+
 if not getattr(caching.CacheImpl, '_orca_stamped', False):
     caching.CacheImpl._locator_classes[0:0] = [
         _stamped(caching.UserProvidedCacheLocator),
@@ -79,6 +105,8 @@ if not getattr(caching.CacheImpl, '_orca_stamped', False):
         _stamped(caching.UserWideCacheLocator),
     ]
     caching.CacheImpl._orca_stamped = True
+if not getattr(caching.IndexDataCacheFile._load_index, 'orca_tolerant', False):
+    caching.IndexDataCacheFile._load_index = _tolerant(caching.IndexDataCacheFile._load_index)
 
 
 def njit(fn):

@@ -33,9 +33,9 @@ import math
 
 import numpy as np
 
-from . import clock, daqp_c, direct_daqp, lower_level as L
+from . import lower_level as L
 from .cascade_level import Level
-from ..solvers import ReturnCode
+from ..solvers import clock, daqp_c, direct_daqp, ReturnCode
 from ...common.watched import Touched
 from ...utils.logger import get_logger
 

@@ -27,9 +27,10 @@ import math
 
 import numpy as np
 
-from . import direct_daqp, lower_level as L
+from . import lower_level as L
 from .level_frame import framed_generalized, framed_strict, make_level_frame
 from ..generalized import band_share
+from ..solvers import direct_daqp
 from ...utils.jit import entry
 
 

@@ -33,10 +33,10 @@ import numpy as np
 
 from . import lower_level as L
 from .cycle_kernel import finish, step
-from .daqp_c import UPDATE_ALL
 from .level_frame import framed_generalized, framed_strict
-from .struct_type import StructType
+from ..solvers.daqp_c import UPDATE_ALL
 from ...utils.jit import entry, njit
+from ...utils.struct_type import StructType
 
 #: a level's mode: Python's this cycle, strict warm, GENERALIZED warm
 PYTHON, STRICT, GENERALIZED = range(3)

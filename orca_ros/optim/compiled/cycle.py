@@ -20,7 +20,8 @@ a control cycle. Per cycle, :meth:`update` runs the Python objects' updates and 
 objects' life cycles, then one kernel call (:mod:`.cycle_kernel`) on the cycle's workspace
 (:mod:`.workspace`): it replaces the objects' updates, ``CyclePlan.update`` and the first level's
 build. Where the only level is solved by kernel and DAQP starts warm, that call solves and writes
-the torques out too (:mod:`.fused_step`). The contacts' side is :mod:`.cycle_contacts`.
+the torques out too (:mod:`.fused_step`). The contacts' side is a part,
+:class:`~orca_ros.constraint.contact_kernel.LoweredContacts`.
 """
 
 from __future__ import annotations
@@ -29,18 +30,21 @@ import time
 
 import numpy as np
 
-from . import cascade, clock, cycle_kernel, direct_daqp, fill, terms
-from .collision import attach_kernels
-from .cycle_contacts import CycleContacts
+from . import cascade, cycle_kernel
 from .fused_step import FusedStep
 from .lowering import lower, Tables
 from .plan_assembly import PlanAssembly
-from .state_kernel import StateKernel
 from .workspace import make_workspace
-from ..solvers import QPSolver, ReturnCode
+from ..solvers import clock, direct_daqp, QPSolver, ReturnCode
+from ...common.lowered import COM, MOM
 from ...constraint.balance_constraint import BalanceConstraint
+from ...constraint.collision_kernel import attach_kernels
+from ...constraint.contact_kernel import LoweredContacts
+from ...robot import terms_kernel as terms
 from ...robot.centroidal_momentum import CentroidalMomentum
+from ...robot.data_views import data_views
 from ...robot.state_input import _QUATERNION_TOL
+from ...robot.state_input_kernel import StateKernel
 from ...utils.jit import entry
 from ...utils.logger import get_logger
 
@@ -50,7 +54,7 @@ _crba, _nle, _WORLD = terms.cycle_passes()
 _SOLVED = (_SUCCESS, False)  # run's result where every level solved (none dropped)
 
 
-class CompiledCycle(CycleContacts):
+class CompiledCycle:
     _said_why = False
 
     def __init__(self, reference):
@@ -87,8 +91,9 @@ class CompiledCycle(CycleContacts):
         self.problem = self.levels.problems[0]
         self.assembly = PlanAssembly(plan, self.problem)
         self.robot, self.layout = robot, lay
-        self._lower_contacts(lay, reference.dynamics, plan)
-        self._bind_wrenches(lay)
+        self.contacts = LoweredContacts(lay, reference.dynamics, plan, robot.model, self.python,
+                                        self.in_python)
+        self.python = self.contacts.python
         self._bind_data()
         self.solver_in_kernel = self._solve_in_kernel(reference.solver)
         self.cascade = self._lower_levels(reference.priorities)
@@ -102,9 +107,8 @@ class CompiledCycle(CycleContacts):
         self._run(self.ws, 1e-3)
         self._finish(self.ws, np.zeros(lay.nx), np.zeros(lay.nx), np.zeros(lay.nv),
                      np.zeros(lay.ndof), np.zeros(lay.ndof))
-        if self.owns_layout:
-            self.ct_tab[:, 3] = 0
-            self.dyn[1] = 0
+        if self.contacts.owns_layout:
+            self.contacts.switch_off()
             self._run_contacts(self.ws, 1e-3)
         self.fused = self._fuse()
         self.compile_seconds = time.perf_counter() - start
@@ -138,7 +142,7 @@ class CompiledCycle(CycleContacts):
         """Make the one-call cycle (FusedStep): the first level solved by kernel, bounds too."""
         if not self.steady:
             return None
-        if self.plan.contacts and not self.owns_layout:
+        if self.plan.contacts and not self.contacts.owns_layout:
             return None  # the contacts' wrench bounds may change on any cycle (update)
         why = clock.unavailable_reason()
         if why is not None:
@@ -166,22 +170,22 @@ class CompiledCycle(CycleContacts):
         """
         robot, lay, t = self.robot, self.layout, self.tables
         d, nb = robot.data, lay.nbase
-        views = fill.data_views(robot.model, d)
+        views = data_views(robot.model, d)
         if views is None:
             raise RuntimeError("Pinocchio's Data is not laid out as the kernels read it")
         self.data = d
-        # the Pinocchio pass: two passes where they give all the kernels read (terms.py)
+        # the Pinocchio pass: two passes where they give all the kernels read (terms_kernel)
         self.derive = np.zeros(1, dtype=np.int64)
         self._gravity = robot.model.gravity.linear.copy()
         self._pass_stamp = None
         self.two_passes = (
             not self.python
-            and not any(low.kind == fill.COM for low in self.lowered)
-            and terms.matches(robot.model, lambda data: fill.data_views(robot.model, data))
+            and not any(low.kind == COM for low in self.lowered)
+            and terms.matches(robot.model, lambda data: data_views(robot.model, data))
         )
         # momentum tasks: the robot's centroidal terms (dccrba, once per state: kernel and API)
         self.centroidal, cm_terms = None, (np.zeros((6, lay.nv)), np.zeros(6), np.zeros(6))
-        if any(low.kind == fill.MOM for low in self.lowered):
+        if any(low.kind == MOM for low in self.lowered):
             self.centroidal = cm = CentroidalMomentum.of(robot)
             cm_terms = cm.Ag, cm.h, cm.drift
         buf = robot.buffers
@@ -202,10 +206,7 @@ class CompiledCycle(CycleContacts):
             lims=t.lims, pacc=t.pacc, tab=t.tab, par=t.par, tmp=t.tmp,
             com=d.com[0], vcom=d.vcom[0], Jcom=d.Jcom, body=t.body, crec=t.crec,
             Ag=cm_terms[0], hg=cm_terms[1], dhg=cm_terms[2], mrec=t.mrec,
-            M_pin=d.M, nle=d.nle, Wj=self.Wj, ct_tab=self.ct_tab, ct_par=self.ct_par,
-            ct_faces=self.ct_faces,
-            ct_sup=self.ct_sup, dyn=self.dyn, ct_ws=self.ct_ws, ct_last=self.ct_last,
-            n_wrenches=self.n_wrenches, **self.assembly.arrays(),
+            M_pin=d.M, nle=d.nle, **self.contacts.arrays(), **self.assembly.arrays(),
         )
         # the kernels for this workspace's types, called without the dispatcher's type
         # resolution (utils.jit.entry: it types the workspace anew at every call); the
@@ -312,8 +313,8 @@ class CompiledCycle(CycleContacts):
         watch = self.tables.watch
         full = watch.touched
         watch.touched = False
-        if self.owns_layout or not self.layout.n_wrenches:
-            # this cycle's Pinocchio pass (terms.py): two passes, or computeAllTerms (inline: a
+        if self.contacts.owns_layout or not self.layout.n_wrenches:
+            # this cycle's Pinocchio pass (terms_kernel): two passes, or computeAllTerms (inline: a
             # method's frame spared at every cycle); (T, t0) are views on Pinocchio's M and
             # nle (_bind_data) without contacts
             r = self.robot
@@ -326,8 +327,10 @@ class CompiledCycle(CycleContacts):
                 _nle(model, d, q, buf.v_pin)  # (terms.two_passes)
                 self.derive[0] = 1  # the first kernel derives the drifts
                 self._pass_stamp = buf.stamp
-            if self.owns_layout:  # (ProblemLayout.update's, on the reference path)
-                self._contacts(t, dt, full)
+            if self.contacts.owns_layout:  # (ProblemLayout.update's, on the reference path)
+                if full:  # (what else changes from cycle to cycle is the kernel's)
+                    self.contacts.update(t, dt)
+                self._run_contacts(self.ws, dt)
         else:
             self.layout.update()
         for obj in self.python:
@@ -347,7 +350,7 @@ class CompiledCycle(CycleContacts):
         flags = self._run(self.ws, dt)
         self.plan.box_conflicts += flags & 1
         self.problem.built_finite = not flags & 2
-        if self.plan.contacts and (full or not self.owns_layout):
+        if self.plan.contacts and (full or not self.contacts.owns_layout):
             # the wrench bounds (the kernel writes the joints' only): they change with the
             # contacts' state (lowered contacts: after a change; else their updates may any time)
             self.assembly.contacts()

@@ -23,17 +23,17 @@ from __future__ import annotations
 import math
 
 from .assembly import assemble
-from .contacts import contact_terms
-from .daqp_c import UPDATE_ALL
-from .daqp_kernel import timed_solve
 from .fill import fill
-from .terms import drift
+from ..solvers.daqp_c import UPDATE_ALL
+from ..solvers.daqp_kernel import timed_solve
+from ...constraint.contact_kernel import contact_terms
+from ...robot.terms_kernel import drift
 from ...utils.jit import njit
 
 
 @njit
 def _drifts(ws):
-    """Derive the joints' drifts after the two-pass Pinocchio pass, once (terms.py)."""
+    """Derive the joints' drifts after the two-pass Pinocchio pass, once (terms_kernel)."""
     if ws.derive[0]:
         drift(ws.oMi, ws.a_gf, ws.aj, ws.grav)
         ws.derive[0] = 0

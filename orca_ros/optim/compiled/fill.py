@@ -14,60 +14,30 @@
 """
 Every lowered object's rows in one kernel call, driven by a table (one row per object).
 
+Each kind's row kernel lives beside its concept (``task/cartesian_kernel.py``,
+``constraint/joint_limit_kernel.py``...): this kernel only dispatches on the table.
+
 ``tab[k]`` = [kind, on, a, b, joint]: ``a`` indexes the kind's records (Cartesian records,
 joint-task records, limit pairs), ``b`` is where its output goes (a row of the plan's E, an offset
 in the diagonal tasks' f, a row of the constraint matrix M, a joint box); ``par[k]`` holds its
 scalars (horizon, damping). Pinocchio's joint placements, velocities and drifts are read as three
-arrays over Data's own storage (see :func:`data_views`).
+arrays over Data's own storage (:func:`orca_ros.robot.data_views.data_views`).
 """
 
 from __future__ import annotations
 
-import ctypes
-
-import numpy as np
-
-from .kernels import cartesian_rows, com_rows, joint_rows, momentum_rows, position_box
+from ...common.lowered import (
+    ACCELERATION, CART, COM, JOINT, MOM, POSITION, REG, TORQUE, VELOCITY,
+)
+from ...constraint.joint_limit_kernel import (
+    acceleration_box, position_box, torque_rows, velocity_box,
+)
+from ...task.cartesian_kernel import cartesian_rows
+from ...task.com_kernel import com_rows
+from ...task.joint_acceleration_kernel import joint_rows
+from ...task.momentum_kernel import momentum_rows
+from ...task.regularisation_kernel import regularisation_rows
 from ...utils.jit import njit
-
-CART, JOINT, REG, TORQUE, POSITION, VELOCITY, ACCELERATION, COM, MOM = range(9)
-TAB = 5  # columns of tab
-
-
-def _view(first: np.ndarray, count: int, width: int) -> np.ndarray:
-    """(count, width) float64 array over the memory that starts at ``first``."""
-    buf = (ctypes.c_double * (count * width)).from_address(first.__array_interface__['data'][0])
-    return np.ctypeslib.as_array(buf).reshape(count, width)
-
-
-def data_views(model, data):
-    """
-    Return Data's joint placements, velocities, drifts and accelerations with gravity, on Data.
-
-    (oMi, v, a, a_gf): (njoints, 12) [rotation column-major, translation], then (njoints, 6) each.
-
-    Pinocchio keeps each of them in one contiguous std::vector; the layout is checked here,
-    element by element against the bindings, and None is returned where it does not hold (the
-    caller then reads them one by one).
-    """
-    nj = model.njoints
-    oMi = _view(data.oMi[0].rotation, nj, 12)
-    v = _view(data.v[0].vector, nj, 6)
-    a = _view(data.a[0].vector, nj, 6)
-    a_gf = _view(data.a_gf[0].vector, nj, 6)
-    for j in range(nj):
-        if not (
-            np.array_equal(oMi[j, :9], data.oMi[j].rotation.reshape(-1, order='F'))
-            and np.array_equal(oMi[j, 9:], data.oMi[j].translation)
-            and np.array_equal(v[j], data.v[j].vector)
-            and np.array_equal(a[j], data.a[j].vector)
-            and np.array_equal(a_gf[j], data.a_gf[j].vector)
-        ):
-            return None
-        addr = data.oMi[j].rotation.__array_interface__['data'][0]
-        if addr != oMi[j].__array_interface__['data'][0]:
-            return None
-    return oMi, v, a, a_gf
 
 
 @njit
@@ -96,28 +66,17 @@ def fill(dt, ws):
             n = q.shape[0]
             joint_rows(jrec[a], n, q, v, dg_f[b: b + n], dt, tmp)
         elif kind == REG:
-            d = par[k, 0]
-            for i in range(v_pin.shape[0]):
-                dg_f[b + i] = v_pin[i] * -d if d != 0.0 else 0.0
+            regularisation_rows(par[k, 0], v_pin, dg_f[b: b + v_pin.shape[0]])
         elif kind == TORQUE:
-            for i in range(T.shape[0]):
-                for c in range(T.shape[1]):
-                    M[b + i, c] = T[i, c]
-                lo[nx + b + i] = lims[a, 0, i] - t0[i]
-                hi[nx + b + i] = lims[a, 1, i] - t0[i]
+            torque_rows(T, t0, lims[a], M, lo, hi, b, nx)
         elif kind == POSITION:
             position_box(q, v, lims[a, 0], lims[a, 1], pacc[a], dt, par[k, 0], box_lb[b],
                          box_ub[b])
         elif kind == VELOCITY:
-            h = max(par[k, 0], dt)
-            for i in range(q.shape[0]):
-                box_lb[b, i] = (lims[a, 0, i] - v[i]) * (1.0 / h)
-                box_ub[b, i] = (lims[a, 1, i] - v[i]) * (1.0 / h)
+            velocity_box(v, lims[a], dt, par[k, 0], box_lb[b], box_ub[b])
         elif kind == COM:
             com_rows(crec[a], com, vcom, Jcom, oMi, vj, aj, body, E, f, b, dt, tmp)
         elif kind == MOM:
             momentum_rows(mrec[a], Ag, hg, dhg, par[k, 0], E, f, b, dt, tmp)
         elif kind == ACCELERATION:
-            for i in range(q.shape[0]):
-                box_lb[b, i] = lims[a, 0, i]
-                box_ub[b, i] = lims[a, 1, i]
+            acceleration_box(lims[a], box_lb[b], box_ub[b])

@@ -30,11 +30,11 @@ write contact wrench bounds between assembly and solve (a contact changed).
 
 from __future__ import annotations
 
-from . import clock, cycle_kernel
+from . import cycle_kernel
 from .cascade_step import CascadeStep
 from .step_frame import framed_finish, framed_step, make_frame
-from .terms import cycle_passes
-from ..solvers import ReturnCode
+from ..solvers import clock, ReturnCode
+from ...robot.terms_kernel import cycle_passes
 from ...utils.jit import entry
 
 _SUCCESS = ReturnCode.SUCCESS
@@ -73,8 +73,8 @@ class FusedStep:
         # runs it inline, without CompiledCycle.update's and this object's frames and tests:
         # on an arm such as the Panda, the Python around a cycle costs more than its kernel
         self.lean = self.cascade_step = None
-        if (not cc.python and cc.centroidal is None and cc.two_passes and not cc.owns_layout
-                and not cc.layout.n_wrenches):
+        if (not cc.python and cc.centroidal is None and cc.two_passes
+                and not cc.contacts.owns_layout and not cc.layout.n_wrenches):
             self.lean = (cc.tables.watch, cc.robot, cc.robot.buffers, cc.data, b, st,
                          self.problem, self.frame,
                          cc.derive, cc.robot.model, *cycle_passes())

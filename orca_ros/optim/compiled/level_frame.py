@@ -26,8 +26,8 @@ from __future__ import annotations
 from numba.experimental import structref
 
 from .lower_level import prepare_and_solve, prepare_and_solve_generalized
-from .struct_type import StructType
 from ...utils.jit import njit
+from ...utils.struct_type import StructType
 
 #: the fields, in order: a strict level's reference and banded back-ends are its strict one
 FIELDS = ('s', 'strict', 'ref', 'banded', 'timing', 'ref_timing', 'clock', 'least')

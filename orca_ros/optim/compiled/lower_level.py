@@ -36,10 +36,10 @@ import math
 
 from numba.experimental import structref
 
-from . import daqp_kernel as K
-from .daqp_c import UPDATE_ALL
-from .struct_type import StructType
+from ..solvers import daqp_kernel as K
+from ..solvers.daqp_c import UPDATE_ALL
 from ...utils.jit import njit
+from ...utils.struct_type import StructType
 
 L_KIND, L_ROW, L_N, L_COL, L_W = range(5)
 #: prepare's outcomes; prepare_and_solve's flag for them, when it did not solve: PREPARED - outcome
@@ -397,5 +397,5 @@ def prepare_and_solve_generalized(s, ref, banded, strict, deadline, most, least,
         strict_form(s)
     ns = K.monotonic_ns(clock) - start
     if flag > 0:
-        K._record(timing, ns * 1e-9, it_ref + it)
+        K.record_time(timing, ns * 1e-9, it_ref + it)
     return flag, it_ref, it, stage, cap, ns

@@ -27,8 +27,8 @@ from __future__ import annotations
 from numba.experimental import structref
 
 from .cycle_kernel import finish, step
-from .struct_type import StructType
 from ...utils.jit import njit
+from ...utils.struct_type import StructType
 
 #: the fields, in order (see cycle_kernel.step for what each is)
 FIELDS = ('ws', 's', 'timing', 'x_out', 'acc_out', 'tau', 'tau_cmd', 'clock', 'least', 'out')

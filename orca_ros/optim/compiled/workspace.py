@@ -24,13 +24,13 @@ from __future__ import annotations
 
 from numba.experimental import structref
 
-from .struct_type import StructType
 from ...utils.jit import njit
+from ...utils.struct_type import StructType
 
 #: the fields, in order (see CompiledCycle for what each is)
 FIELDS = (
     # Pinocchio's Data and the robot's state; the accelerations with gravity, gravity, and
-    # whether the drifts aj are to be derived from them this cycle (compiled/terms.py)
+    # whether the drifts aj are to be derived from them this cycle (robot/terms_kernel.py)
     'J', 'oMi', 'vj', 'aj', 'q', 'v', 'v_pin', 'T', 't0', 'a_gf', 'grav', 'derive',
     # the plan: dense task rows, diagonal tasks, level 0's problem, constraints, joint boxes
     'E', 'f', 'w', 'sel', 'row_task', 'ew',
@@ -42,7 +42,7 @@ FIELDS = (
     # total mass) and the CoM tasks' records; the centroidal momentum's map, value and drift
     # (the robot's CentroidalMomentum terms) and the momentum tasks' records
     'com', 'vcom', 'Jcom', 'body', 'crec', 'Ag', 'hg', 'dhg', 'mrec',
-    # the contacts (compiled/contacts.py): Pinocchio's M and nle, the wrench Jacobians, the
+    # the contacts (constraint/contact_kernel.py): Pinocchio's M and nle, the wrench Jacobians, the
     # contacts' table, parameters and soles' faces, the dynamics rows [first row in M, on]
     'M_pin', 'nle', 'Wj', 'ct_tab', 'ct_par', 'ct_faces', 'ct_sup', 'dyn',
     # every contact's wrench: its first variable, its last solved wrench, how many contacts

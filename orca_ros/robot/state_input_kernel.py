@@ -31,8 +31,8 @@ import math
 from numba.experimental import structref
 import numpy as np
 
-from .struct_type import StructType
-from ...utils.jit import entry, njit
+from ..utils.jit import entry, njit
+from ..utils.struct_type import StructType
 
 _OK, _REFUSED = 0, 1
 

@@ -12,13 +12,14 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-Views on Pinocchio's geometry placements and coal's distance results, as the kernels read them.
+Views on Pinocchio's and coal's own storage, as the compiled cycle's kernels read them.
 
-Both live in C++ objects (GeometryData's ``oMg``, its ``distanceResults``); the collision kernels
-(:mod:`.collision`) read and write them over their storage. Each view is checked, value by value
-and address by address for every element, before it is used; where the layout is not the one read
-here (another Pinocchio, another coal) the functions return None and the constraint keeps its
-Python update.
+Data's joint placements, velocities and drifts (:func:`data_views`), GeometryData's geometry
+placements (:func:`placement_view`) and coal's distance results (:func:`result_view`) live in
+C++ objects; the kernels read (and, for the placements, write) them over their storage, with no
+copy per cycle. Each view is checked, value by value and address by address for every element,
+before it is used; where the layout is not the one read here (another Pinocchio, another coal)
+the functions return None and the caller keeps its Python path.
 """
 
 from __future__ import annotations
@@ -28,7 +29,42 @@ import ctypes
 import numpy as np
 import pinocchio as pin
 
-from .fill import _view
+
+def _view(first: np.ndarray, count: int, width: int) -> np.ndarray:
+    """(count, width) float64 array over the memory that starts at ``first``."""
+    buf = (ctypes.c_double * (count * width)).from_address(first.__array_interface__['data'][0])
+    return np.ctypeslib.as_array(buf).reshape(count, width)
+
+
+def data_views(model, data):
+    """
+    Return Data's joint placements, velocities, drifts and accelerations with gravity, on Data.
+
+    (oMi, v, a, a_gf): (njoints, 12) [rotation column-major, translation], then (njoints, 6) each.
+
+    Pinocchio keeps each of them in one contiguous std::vector; the layout is checked here,
+    element by element against the bindings, and None is returned where it does not hold (the
+    caller then reads them one by one).
+    """
+    nj = model.njoints
+    oMi = _view(data.oMi[0].rotation, nj, 12)
+    v = _view(data.v[0].vector, nj, 6)
+    a = _view(data.a[0].vector, nj, 6)
+    a_gf = _view(data.a_gf[0].vector, nj, 6)
+    for j in range(nj):
+        if not (
+            np.array_equal(oMi[j, :9], data.oMi[j].rotation.reshape(-1, order='F'))
+            and np.array_equal(oMi[j, 9:], data.oMi[j].translation)
+            and np.array_equal(v[j], data.v[j].vector)
+            and np.array_equal(a[j], data.a[j].vector)
+            and np.array_equal(a_gf[j], data.a_gf[j].vector)
+        ):
+            return None
+        addr = data.oMi[j].rotation.__array_interface__['data'][0]
+        if addr != oMi[j].__array_interface__['data'][0]:
+            return None
+    return oMi, v, a, a_gf
+
 
 RES = 10  # a result as read: distance, normal (3), nearest point 1 (3), nearest point 2 (3)
 

@@ -16,9 +16,9 @@ Collision avoidance by kernel: what CollisionAvoidanceConstraint's update does, 
 
 Per cycle, around coal's distances of the pairs that may matter:
 
-1. :func:`~.collision_screen.screen` places the geometries (Pinocchio's ``oMg``, over its own
-   storage) and keeps the pairs that may come within reach (bounding spheres and capsules, each
-   pair's closing-speed bound, how far its bodies moved since its last distance);
+1. :func:`~.collision_screen_kernel.screen` places the geometries (Pinocchio's ``oMg``, over its
+   own storage) and keeps the pairs that may come within reach (bounding spheres and capsules,
+   each pair's closing-speed bound, how far its bodies moved since its last distance);
 2. coal computes those pairs' distances (``computeDistances`` on the pairs marked active), which
    leaves its results in GeometryData's ``distanceResults``;
 3. :func:`rows` reads the results over their storage, keeps the watched pairs closest first (at
@@ -39,11 +39,12 @@ from numba.experimental import structref
 import numpy as np
 import pinocchio as pin
 
-from .collision_screen import screen
-from .collision_views import placement_view, RES, result_view
-from .kernels import viable_upper
-from .struct_type import StructType
-from ...utils.jit import entry, njit
+from .collision_avoidance import CollisionAvoidanceConstraint
+from .collision_screen_kernel import screen
+from .viable_bound_kernel import viable_upper
+from ..robot.data_views import data_views, placement_view, RES, result_view
+from ..utils.jit import entry, njit
+from ..utils.struct_type import StructType
 
 
 @njit
@@ -265,8 +266,6 @@ class CollisionKernels:
 
     def _bind(self) -> None:
         """Take the views and make the workspace (again after the geometry or Data changed)."""
-        from .fill import data_views
-
         con = self.constraint
         geom, robot = con.geometry, con.robot
         model, data = robot.model, robot.data
@@ -292,38 +291,39 @@ class CollisionKernels:
             raise RuntimeError(CollisionKernels.unavailable_reason(con)
                                or "Pinocchio's Data is not laid out as the kernels read it")
         gsphere = np.zeros((ng, 4))
-        gsphere[:, :3], gsphere[:, 3] = geom._centre, geom._radius
+        gsphere[:, :3], gsphere[:, 3] = geom.sphere_centre, geom.sphere_radius
         pairs = np.zeros((max(1, npairs), 2), dtype=np.int64)
-        pairs[:npairs, 0], pairs[:npairs, 1] = geom._first, geom._second
+        pairs[:npairs] = np.array(geom.pairs, dtype=np.int64).reshape(-1, 2)
         size = max(1, npairs)
         self.counts = np.zeros(2, dtype=np.int64)  # distances computed, skipped (since bound)
         # the pairs coal computes: none until screened (then those that changed, when they do)
         self.active, self.changed = np.zeros((ng, ng), dtype=np.bool_), np.zeros(1, np.bool_)
         gd.deactivateAllCollisionPairs()
         kept, when, floor, cycle = con.kept_bounds()
+        rows_of = con.row_arrays()
         self.ws = _construct(
             oMg, views[0], views[1], views[2], data.J, sup, robot.buffers.v_pin,
-            np.array(geom._joint, dtype=np.int64), geom.placement, gsphere, geom._capsule,
+            np.array(geom.joint, dtype=np.int64), geom.placement, gsphere, geom.capsule,
             geom.velocity, pairs, npairs, geom.n_robot, np.zeros((ng, 3)), np.zeros((ng, 6)),
             np.zeros((ng, 6)), np.zeros(size), np.zeros(size, dtype=np.int64),
             self.active, self.changed, np.full((size, 25), np.nan), res,
-            np.zeros(size, dtype=np.int64), np.zeros(model.nv), con._sel, con._seld,
+            np.zeros(size, dtype=np.int64), np.zeros(model.nv), rows_of.sel, rows_of.seld,
             con.settings, con.C, con.lb, con.ub, self.counts, kept, when, floor, con.found, cycle,
             con.capacity,
-            con._written, con._lastC, con._last_sel, con._last_seld,
+            rows_of.written, rows_of.lastC, rows_of.last_sel, rows_of.last_seld,
         )
         self._screen = entry(screen, self.ws)
         self._rows = entry(rows, self.ws, 0, 1e-3, 0)
         self._acc0 = con.layout.acc.start
-        self._bound = (geom.version, data, con.C, con._sel)
+        self._bound = (geom.version, data, con.C)
 
     def update(self, dt: float) -> int:
         """Fill the constraint's rows for this cycle (the joints' terms are Data's); return m."""
         con = self.constraint
         geom, robot = con.geometry, con.robot
         bound = self._bound
-        if (geom.version != bound[0] or robot.data is not bound[1] or con.C is not bound[2]
-                or con._sel is not bound[3]):
+        # (the row arrays are made anew with C: resize)
+        if geom.version != bound[0] or robot.data is not bound[1] or con.C is not bound[2]:
             self._bind()
         ws = self.ws
         n = self._screen(ws)  # (the geometries placed too)
@@ -337,8 +337,6 @@ class CollisionKernels:
 
 def attach_kernels(constraints, in_python: list, why: dict) -> None:
     """Give the collision constraints updated in Python their kernels (distances stay coal's)."""
-    from ...constraint.collision_avoidance import CollisionAvoidanceConstraint  # noqa: PLC0415
-
     for obj in constraints:
         if isinstance(obj, CollisionAvoidanceConstraint):
             obj.use_kernels(None)

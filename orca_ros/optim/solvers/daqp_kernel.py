@@ -31,10 +31,10 @@ from numba import types
 from numba.experimental import structref
 from numba.extending import intrinsic
 
+from . import time_model
 from .clock import monotonic_ns
-from .struct_type import StructType
-from ..solvers import time_model
 from ...utils.jit import njit
+from ...utils.struct_type import StructType
 
 _I8P = ir.IntType(8).as_pointer()
 _I32 = ir.IntType(32)
@@ -163,7 +163,7 @@ def solve(s, mask, cap):
 
 
 _cap = njit(time_model.iteration_cap)
-_record = njit(time_model.record)
+record_time = njit(time_model.record)
 
 
 @njit
@@ -191,5 +191,5 @@ def timed_solve(s, mask, deadline, most, least, timing, clock):
     flag, iters = solve(s, mask, cap)
     ns = monotonic_ns(clock) - start
     if flag == 1:
-        _record(timing, ns * 1e-9, iters)
+        record_time(timing, ns * 1e-9, iters)
     return flag, iters, cap, ns

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import math
 
-from ...utils.jit import njit
+from ..utils.jit import njit
 
 #: a pair's distance is computed again when its bound from the last one is this close to its limit
 #: [m] (GJK's own tolerance is far below)

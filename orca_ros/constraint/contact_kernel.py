@@ -12,7 +12,11 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-The contacts' kinematics in one kernel: wrench Jacobians, the torque map, existence conditions.
+The contacts' compiled form: their kinematics in one kernel, and their lowering.
+
+:func:`contact_terms` computes the wrench Jacobians, the torque map and the existence
+conditions; :class:`LoweredContacts` (a part of the compiled cycle) holds their arrays and runs
+their life cycle.
 
 What ``ProblemLayout.update`` (each contact's Jacobian, T = [M_a, -J_c,a^T], t0 = n_a), the
 floating base's ``DynamicsEquationConstraint`` ([M_u, -J_c,u^T] x = -n_u) and each
@@ -31,12 +35,21 @@ frame position (3), point offset in the frame (3), normal in the world (3), velo
 
 from __future__ import annotations
 
-from ...utils.jit import njit
+import numpy as np
+
+from .contact import Contact
+from .surface_wrench_contact import SurfaceContact
+from ..common.lowered import offset_in
+from ..common.task_base import ActivationState
+from ..utils.jit import njit
 
 CT_JOINT, CT_ROWS, CT_ROW, CT_ON, CT_Z_NORMAL, CT_CONE, CT_FACES, CT_WCOL = range(8)
 CT_TAB = 8
 CT_R, CT_P, CT_OFF, CT_N, CT_GAIN = 0, 9, 12, 15, 18
 CT_PAR = 19
+
+_INACTIVE = (ActivationState.INIT, ActivationState.DEACTIVATED)
+_ACTIVATED = ActivationState.ACTIVATED
 
 
 @njit
@@ -170,3 +183,130 @@ def contact_terms(oMi, vj, aj, J, ct_sup, M_pin, nle, Wj, T, t0, M, lo, hi, nx, 
             lo[nx + dyn_row + r] = -nle[r]
             hi[nx + dyn_row + r] = -nle[r]
     return 0
+
+
+def _has_callbacks(obj) -> bool:
+    return obj.compute_begin_cb is not None or obj.compute_end_cb is not None
+
+
+class LoweredContacts:
+    """
+    The layout's contacts in the compiled cycle: the arrays :func:`contact_terms` reads.
+
+    ``owns_layout``: every contact is a point or surface contact without compute callbacks (nor
+    the dynamics): the kernel then computes their kinematics, the torque map and the dynamics
+    rows, their own rows (cones, normal force bounds) stay in Python and :meth:`update` runs
+    their life cycle. Otherwise ProblemLayout.update and the existence conditions run in Python
+    as on the reference path. Either way the finish kernel writes every contact's last wrench
+    into ``ct_last`` (each contact's ``last_wrench`` is a row of it).
+
+    ``python`` (given): the cycle's objects that run their own update; :attr:`python` is what is
+    left of them, the contacts taken out; ``in_python`` (the cycle's name -> why) is updated.
+    """
+
+    def __init__(self, lay, dyn, plan, model, python: list, in_python: dict):
+        contacts = list(lay.contacts)
+        self.contacts, self.owns_layout, self.python = [], False, list(python)
+        n = len(contacts)
+        self.ct_tab = np.zeros((max(1, n), CT_TAB), dtype=np.int64)
+        self.ct_par = np.zeros((max(1, n), CT_PAR))
+        faces = [c.faces_local.shape[0] for c in contacts if isinstance(c, SurfaceContact)]
+        self.ct_faces = np.zeros((max(1, n), max(faces, default=1), 6))
+        self.ct_sup = np.zeros((max(1, n), lay.nv), dtype=np.bool_)
+        self.dyn = np.array([-1, 0], dtype=np.int64)
+        self.Wj = lay.wrench_jacobian if n else np.zeros((0, lay.nv))
+        self._bind_wrenches(contacts)
+        if not n or _has_callbacks(dyn) or any(
+            type(c) not in (Contact, SurfaceContact)
+            or _has_callbacks(c)
+            or _has_callbacks(c.existence)
+            for c in contacts
+        ):
+            return
+        for i, c in enumerate(contacts):
+            self._lower(i, c, model, plan)
+        if dyn.rows():
+            self.dyn[0] = offset_in(dyn.C, plan.M)
+        inside = {id(c.existence) for c in contacts} | {id(dyn)}
+        ids = {id(c) for c in contacts}
+        left = [o for o in python if id(o) not in inside]
+        self.contact_objects = [o for o in left if id(o) in ids]
+        self.python = [o for o in left if id(o) not in ids]
+        for c in contacts:
+            in_python.pop(c.existence.name, None)
+            in_python[c.name] = (
+                'its rows after a change of its state (its kinematics and the cone of a sole,'
+                ' which turns with it, by kernel)'
+            )
+        in_python.pop(dyn.name, None)
+        self.contacts, self.dynamics, self.owns_layout = contacts, dyn, True
+        self._seen = [None] * n  # (gain, normal) last written to ct_par
+        lay.T, lay.t0 = lay.T_own, lay.t0_own
+
+    def _lower(self, i: int, c, model, plan) -> None:
+        """Write contact ``i``'s table row and parameters."""
+        frame = model.frames[c.fid]
+        surface = isinstance(c, SurfaceContact)
+        self.ct_tab[i] = [frame.parentJoint, c.existence_rows,
+                          offset_in(c.existence.C, plan.M), 0, surface,
+                          offset_in(c.C, plan.M) if surface else 0,
+                          c.faces_local.shape[0] if surface else 0, c.wrench_slice().start]
+        if surface:
+            self.ct_faces[i, : c.faces_local.shape[0]] = c.faces_local
+        par = self.ct_par[i]
+        par[CT_R: CT_R + 9] = frame.placement.rotation.reshape(-1)
+        par[CT_P: CT_P + 3] = frame.placement.translation
+        offset = getattr(c, 'offset', None)
+        if offset is not None:
+            par[CT_OFF: CT_OFF + 3] = offset
+        for j in model.supports[frame.parentJoint]:
+            if j > 0:
+                jm = model.joints[j]
+                self.ct_sup[i, jm.idx_v: jm.idx_v + jm.nv] = True
+
+    def _bind_wrenches(self, contacts) -> None:
+        """Make the contacts' last wrenches rows of one array (``ContactBase.record_solution``)."""
+        self.ct_ws = np.array([c.wrench_slice().start for c in contacts] or [0], dtype=np.int64)
+        self.ct_last = np.zeros((max(1, len(contacts)), 6))
+        for i, c in enumerate(contacts):
+            self.ct_last[i] = c.last_wrench
+            c.last_wrench = self.ct_last[i]
+        self.n_wrenches = len(contacts)
+
+    def arrays(self) -> dict:
+        """Return the workspace's contact fields (:mod:`orca_ros.optim.compiled.workspace`)."""
+        return {'Wj': self.Wj, 'ct_tab': self.ct_tab, 'ct_par': self.ct_par,
+                'ct_faces': self.ct_faces, 'ct_sup': self.ct_sup, 'dyn': self.dyn,
+                'ct_ws': self.ct_ws, 'ct_last': self.ct_last, 'n_wrenches': self.n_wrenches}
+
+    def switch_off(self) -> None:
+        """Every contact and the dynamics rows off (the kernel's compile run writes nothing)."""
+        self.ct_tab[:, CT_ON] = 0
+        self.dyn[1] = 0
+
+    def update(self, t: float, dt: float) -> None:
+        """
+        Run the contacts' own updates and mirror their state into the kernel's arrays.
+
+        Each existence condition follows its contact's state and ramp; a contact's velocity gain
+        and normal (they change only through their setters) are written when they changed; the
+        dynamics rows follow the dynamics' ramp.
+        """
+        for c in self.contact_objects:
+            c.update(t, dt)
+        tab, par, seen = self.ct_tab, self.ct_par, self._seen
+        for i, c in enumerate(self.contacts):
+            ex = c.existence
+            if ex.state is not c.state or ex.ramp_factor != c.ramp_factor:
+                ex.state, ex.ramp_factor = c.state, c.ramp_factor  # it mirrors its contact
+            tab[i, CT_ON] = c.state not in _INACTIVE
+            normal = None if tab[i, CT_Z_NORMAL] else c.normal  # a surface's: its frame's z axis
+            if seen[i] is None or seen[i][0] != c.velocity_gain or seen[i][1] is not normal:
+                par[i, CT_GAIN] = c.velocity_gain
+                if normal is not None:
+                    par[i, CT_N: CT_N + 3] = normal
+                seen[i] = (c.velocity_gain, normal)
+        dyn = self.dynamics
+        if dyn.state is not _ACTIVATED and dyn.state not in _INACTIVE:
+            dyn.step_ramp(t)
+        self.dyn[1] = dyn.state not in _INACTIVE

@@ -12,7 +12,9 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-The cycle's Pinocchio pass: no more than the kernels read.
+The compiled cycle's Pinocchio pass: no more than its kernels read.
+
+The compiled form of :meth:`.RobotModel.update_terms`.
 
 ``computeAllTerms`` computes all a controller may ask of Pinocchio: the mass matrix, the
 nonlinear effects, the joints' placements, velocities, Jacobians and drifts, and also the centre
@@ -35,7 +37,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from ...utils.jit import njit
+from ..utils.jit import njit
 
 _WORLD = pin.Convention.WORLD
 

@@ -41,8 +41,8 @@ import weakref
 import numpy as np
 
 from . import clock, daqp_c, daqp_kernel as K
-from ..solvers.base import QPBackend, ReturnCode
-from ..solvers.daqp_backend import _EQUALITY, _FLAGS
+from .base import QPBackend, ReturnCode
+from .daqp_backend import _EQUALITY, _FLAGS
 from ...utils.jit import entry
 
 _NON_FINITE = -100
