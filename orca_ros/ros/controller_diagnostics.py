@@ -113,7 +113,7 @@ class ControllerDiagnostics:
         # fault
         timeout = self.state_timeout if self.trigger == 'timer' else max(self.state_timeout, 0.5)
         age = time.monotonic() - self._state_wall if self._have_state else 0.0
-        persistent = self.error_watch.persistent(self._now()) if self._have_state else []
+        persistent = self.error_watch.persistent(self.now()) if self._have_state else []
         self._say_error.period = self.error_watch.duration  # a live parameter
         for name, norm, dur in persistent:
             self._say_error('warning', f'error:{name}', persistent_error_text(name, norm, dur))

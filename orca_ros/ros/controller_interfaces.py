@@ -117,12 +117,12 @@ class ControllerInterfaces:
                 self._apply_state()
             if self._out_of_reach(name, T):
                 return
-            if not (self._have_state and self.smooth_target(name, T)):
+            if not self._smooth(name, T):
                 task.servo_controller().set_desired(T)
         except ValueError as exc:
             self.say('error', f'target:{name}', f"target for task '{name}' rejected: {exc}")
             return
-        self._target_time[name] = self._now()
+        self._target_time[name] = self.now()
 
     def _on_target_point(self, name: str, msg: MultiDOFJointTrajectoryPoint) -> None:
         """Pose, twist and acceleration (feed-forward) of a Cartesian task, in the base frame."""
@@ -154,12 +154,12 @@ class ControllerInterfaces:
                 raise ValueError('NaN or infinite values')
             if self._out_of_reach(name, T):
                 return
-            self.stop_trajectory(name)  # a trajectory point already: as it is
+            self.targets.stop(name)  # a trajectory point already: as it is
             task.servo_controller().set_desired(T, vel, acc)
         except ValueError as exc:
             self.say('error', f'target:{name}', f"target point for task '{name}' rejected: {exc}")
             return
-        self._target_time[name] = self._now()
+        self._target_time[name] = self.now()
 
     def _out_of_reach(self, name: str, T) -> bool:
         """Whether a pose target (base frame) is out of the task's reach: WARN, target ignored."""
@@ -196,13 +196,18 @@ class ControllerInterfaces:
                     raise ValueError("a joint task needs 'position' values")
                 if not np.isfinite(pos).all() or (vel is not None and not np.isfinite(vel).all()):
                     raise ValueError('NaN or infinite values')
-                if vel is not None or not (self._have_state and self.smooth_target(name, pos)):
-                    self.stop_trajectory(name)
+                if vel is not None or not self._smooth(name, pos):
+                    self.targets.stop(name)
                     task.set_desired(pos, vel)
         except ValueError as exc:
             self.say('error', f'target:{name}', f"target for task '{name}' rejected: {exc}")
             return
-        self._target_time[name] = self._now()
+        self._target_time[name] = self.now()
+
+    def _smooth(self, name: str, target) -> bool:
+        """Start a trajectory to ``target`` once the robot was seen (TargetSmoothing.smooth)."""
+        return self._have_state and self.targets.smooth(name, target, self.now(), self._q,
+                                                        self._v)
 
     def expire_targets(self, t: float) -> None:
         if self.target_timeout <= 0:
@@ -222,7 +227,7 @@ class ControllerInterfaces:
 
         The task stops pulling.
         """
-        self.stop_trajectory(task.name)
+        self.targets.stop(task.name)
         if isinstance(task, CartesianTask):
             task.servo_controller().hold_current_pose()
             task.servo_controller().pid().reset()
@@ -308,7 +313,7 @@ class ControllerInterfaces:
                 pose_pub.publish(msg)
                 e = servo.get_cartesian_pose_error()
                 self.error_watch.observe(
-                    name, float(np.linalg.norm(e[:3])) if task.is_computing() else 0.0, self._now()
+                    name, float(np.linalg.norm(e[:3])) if task.is_computing() else 0.0, self.now()
                 )
                 err.data = e.tolist()
             elif isinstance(task, JointAccelerationTask):
@@ -317,7 +322,8 @@ class ControllerInterfaces:
             yield
         self._publish_cycle_timing()
         yield
-        self.publish_markers()
+        if self._have_state:
+            self.markers.publish()
 
     def _publish_cycle_timing(self) -> None:
         total = self.solve_times.total

@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-The controller node's ``~/markers`` (visualization_msgs/MarkerArray, mixed into the node).
+The controller node's ``~/markers`` (visualization_msgs/MarkerArray), a part of the node.
 
 At the feedback rate, for a robot with contacts (or a floating base): the centre of mass (ns
 ``com``: a SPHERE), the support polygon (ns ``support_polygon``: a closed LINE_STRIP at the
@@ -26,7 +26,6 @@ Parameters: ``markers`` (true), ``marker_force_scale``.
 
 from __future__ import annotations
 
-from builtin_interfaces.msg import Time
 from geometry_msgs.msg import Point
 from visualization_msgs.msg import Marker, MarkerArray
 
@@ -53,32 +52,33 @@ def _point(p) -> Point:
 
 
 class ControllerMarkers:
-    def setup_markers(self) -> None:
-        """Publish ``~/markers`` when the robot has contacts or a floating base."""
-        self._marker_contacts = list(self.controller.layout.contacts)
-        self.marker_force_scale = float(param(self, 'marker_force_scale', 0.002))
-        self.pub_markers = None
-        if bool(param(self, 'markers', True)) and (self._marker_contacts or self.floating):
-            self.pub_markers = self.create_publisher(MarkerArray, '~/markers', DEFAULT_QOS)
+    """
+    The controller node's ``~/markers``: a part of the node (see the module).
 
-    def _marker_stamp(self) -> Time:
-        if self.trigger == 'joint_state' and self._computed_stamp is not None:
-            ns = int(round(self._computed_stamp * 1e9))
-            return Time(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
-        return self.get_clock().now().to_msg()
+    ``node`` declares the parameters and makes the publisher; ``stamp()`` gives the markers'
+    stamp (the state the model holds); ``contacts``: the layout's, in wrench order.
+    """
 
-    def publish_markers(self) -> None:
+    def __init__(self, node, robot, contacts, floating: bool, stamp):
+        self.robot, self.stamp = robot, stamp
+        self.contacts = list(contacts)
+        self.force_scale = float(param(node, 'marker_force_scale', 0.002))
+        self.publisher = None
+        if bool(param(node, 'markers', True)) and (self.contacts or floating):
+            self.publisher = node.create_publisher(MarkerArray, '~/markers', DEFAULT_QOS)
+
+    def publish(self) -> None:
         """
         Send the markers of the model's current state and the last solution, when heard.
 
         Nobody subscribed, none is built: a MarkerArray of the quadruped costs about as much CPU
         as a control cycle, and a 1 kHz node has no cycle to spare for markers nobody draws.
+        Call it once the model holds a state.
         """
-        if (self.pub_markers is None or not self._have_state
-                or self.pub_markers.get_subscription_count() == 0):
+        if self.publisher is None or self.publisher.get_subscription_count() == 0:
             return
-        s = support_summary(self.robot, self._marker_contacts)
-        stamp = self._marker_stamp()
+        s = support_summary(self.robot, self.contacts)
+        stamp = self.stamp()
         com = _marker('com', 0, Marker.SPHERE, stamp, COM_COLOR)
         com.pose.position = _point(s.com)
         com.scale.x = com.scale.y = com.scale.z = 0.04
@@ -90,14 +90,13 @@ class ControllerMarkers:
             poly.scale.x = 0.006  # line width
         markers = [com, poly]
         forces = {f.name: f for f in s.contacts}
-        for k, c in enumerate(self._marker_contacts):
+        for k, c in enumerate(self.contacts):
             f = forces.get(c.name)
             arrow = _marker('contact_forces', k, Marker.ARROW, stamp, FORCE_COLOR,
                             Marker.ADD if f is not None else Marker.DELETE)
             if f is not None:
-                arrow.points = [_point(f.point),
-                                _point(f.point + self.marker_force_scale * f.force)]
+                arrow.points = [_point(f.point), _point(f.point + self.force_scale * f.force)]
                 arrow.scale.x, arrow.scale.y, arrow.scale.z = 0.01, 0.02, 0.02
                 arrow.text = c.name
             markers.append(arrow)
-        self.pub_markers.publish(MarkerArray(markers=markers))
+        self.publisher.publish(MarkerArray(markers=markers))

@@ -34,6 +34,7 @@ import gc
 import sys
 import time
 
+from builtin_interfaces.msg import Time
 from nav_msgs.msg import Odometry
 import numpy as np
 from sensor_msgs.msg import JointState
@@ -54,7 +55,7 @@ from .guarded_node import GuardedNode
 from .housekeeping import Housekeeping
 from .joint_state_input import JointStateInput
 from .live_parameters import LiveParameters
-from .obstacle_markers import ObstacleMarkers
+from .obstacle_markers import ObstacleInput
 from .realtime import configure_scheduling
 from .state_reception import StateReception
 from .target_smoothing import TargetSmoothing
@@ -69,10 +70,7 @@ class OrcaControllerNode(
     StateReception,
     ControllerInterfaces,
     ControllerDiagnostics,
-    ControllerMarkers,
-    TargetSmoothing,
     LiveParameters,
-    ObstacleMarkers,
 ):
     def __init__(self, **kwargs):
         super().__init__(
@@ -199,9 +197,11 @@ class OrcaControllerNode(
             self.create_subscription(
                 Odometry, str(param(self, 'odom_topic', 'odom')), self._on_odom, STATE_QOS
             )
-        self.setup_trajectories(cfg['tasks'])
-        self.setup_obstacles()
-        self.setup_markers()
+        self.targets = TargetSmoothing(setup, self.robot, cfg['tasks'], self.say)
+        self.obstacles = ObstacleInput(self, self.controller, self.robot,
+                                       self.trigger == 'joint_state')
+        self.markers = ControllerMarkers(self, self.robot, self.controller.layout.contacts,
+                                         self.floating, self.state_time)
         self.setup_interfaces(
             float(param(self, 'diagnostics_rate', 5.0)), float(param(self, 'feedback_rate', 50.0))
         )
@@ -263,7 +263,15 @@ class OrcaControllerNode(
 
     # -------------------------------------------------------------- state input
     # -------------------------------------------------------------- control
-    def _now(self) -> float:
+    def state_time(self) -> Time:
+        """Return the stamp of the state the model holds: in lockstep its simulated instant."""
+        if self.trigger == 'joint_state' and self._computed_stamp is not None:
+            ns = int(round(self._computed_stamp * 1e9))
+            return Time(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
+        return self.get_clock().now().to_msg()
+
+    def now(self) -> float:
+        """Return the controller's time [s]: the states' stamps in lockstep, else monotonic."""
         # lockstep runs follow the simulated time stamped on the states (deterministic); others the
         # wall clock
         if self.trigger == 'joint_state' and self._state_stamp is not None:
@@ -288,7 +296,7 @@ class OrcaControllerNode(
         if self._last_loop_wall is not None:
             self.loop_periods.push(wall - self._last_loop_wall)
         self._last_loop_wall = wall
-        t = self._now()
+        t = self.now()
         dt = self.period if self._t_prev is None else max(1e-6, t - self._t_prev)
         self._t_prev = t
         stale = None
@@ -317,7 +325,7 @@ class OrcaControllerNode(
             )
             return
         self.expire_targets(t)
-        self.advance_trajectories(t)
+        self.targets.advance(t, self._q)
         t0 = time.perf_counter()
         try:
             ok = self.controller.update(t, dt)
@@ -381,7 +389,7 @@ class OrcaControllerNode(
         If control is running, this cycle sends the safe command.
         """
         if self._have_state and not self._stopped and 'control_step' in what:
-            self._publish_safe(self._now(), 'safe:error', f'{what} raised {type(exc).__name__}')
+            self._publish_safe(self.now(), 'safe:error', f'{what} raised {type(exc).__name__}')
 
     def configure_process(self) -> None:
         """Apply ``thread_priority`` and ``cpu_affinity`` to the process (run_node calls it)."""

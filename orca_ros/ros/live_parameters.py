@@ -64,7 +64,7 @@ class LiveParameters:
         if 'task' in groups:
             task = self.setup.tasks[groups['task']]
             if '.trajectory.' in name:
-                gen = self.trajectories.get(groups['task'])
+                gen = self.targets.trajectories.get(groups['task'])
                 if gen is None:
                     raise ParamRejected(f"'{name}': trajectories are disabled for this task")
                 attr = {'max_velocity': 'vmax', 'max_acceleration': 'amax', 'max_jerk': 'jmax'}[

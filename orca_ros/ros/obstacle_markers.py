@@ -68,31 +68,42 @@ def marker_obstacle(m, base_frame: str):
     return shape, size, pose_to_matrix(m.pose), frame
 
 
-class ObstacleMarkers:
-    def setup_obstacles(self) -> None:
-        self._collision = [c for c in self.controller.get_constraints()
-                           if isinstance(c, CollisionAvoidanceConstraint)]
-        self._marker_specs: dict = {}  # name -> (shape, size, frame) of the obstacles from markers
-        self._velocities = ObstacleVelocity()  # of the obstacles, from their poses
-        if self._collision:
-            self.create_subscription(MarkerArray, '~/obstacles', self._on_obstacles, DEFAULT_QOS)
+class ObstacleInput:
+    """
+    The collision constraints' obstacles from ``~/obstacles``: a part of the controller node.
 
-    def _on_obstacles(self, msg: MarkerArray) -> None:
+    ``node`` subscribes (nothing without a collision constraint), logs (``say``) and gives the
+    controller's time (``now()``); ``lockstep``: the node's cycles follow the simulated time the
+    states carry (trigger ``joint_state``), and so does a stamped pose.
+    """
+
+    def __init__(self, node, controller, robot, lockstep: bool):
+        self.node, self.robot, self.lockstep = node, robot, lockstep
+        self.collision = [c for c in controller.get_constraints()
+                          if isinstance(c, CollisionAvoidanceConstraint)]
+        self.specs: dict = {}  # name -> (shape, size, frame) of the obstacles from markers
+        self.velocities = ObstacleVelocity()  # of the obstacles, from their poses
+        if self.collision:
+            node.create_subscription(MarkerArray, '~/obstacles', self.on_obstacles, DEFAULT_QOS)
+
+    def on_obstacles(self, msg: MarkerArray) -> None:
+        """Apply each marker of ``msg``; a bad one is refused with a line naming it."""
         for m in msg.markers:
             name = f'{m.ns}/{m.id}'
             try:
-                self._apply_marker(m, name)
+                self.apply(m, name)
             except (ValueError, KeyError) as exc:
-                self.say('warning', 'obstacles', f"obstacle marker '{name}' refused: {exc}")
+                self.node.say('warning', 'obstacles', f"obstacle marker '{name}' refused: {exc}")
 
-    def _apply_marker(self, m, name: str) -> None:
-        action = marker_action(m, self._marker_specs)
+    def apply(self, m, name: str) -> None:
+        """Add, move or remove the obstacle of marker ``m`` in every collision constraint."""
+        action = marker_action(m, self.specs)
         if action != Marker.ADD:
-            for n in list(self._marker_specs) if action == Marker.DELETEALL else [name]:
-                for c in self._collision:
+            for n in list(self.specs) if action == Marker.DELETEALL else [name]:
+                for c in self.collision:
                     c.remove_obstacle(n)
-                del self._marker_specs[n]
-                self._velocities.forget(n)
+                del self.specs[n]
+                self.velocities.forget(n)
             return
         shape, size, pose, frame = marker_obstacle(m, self.robot.get_base_frame())
         spec = (shape, size, frame)
@@ -100,18 +111,18 @@ class ObstacleMarkers:
         # together), else its receipt; receipts jitter against the poses (in lockstep, a marker
         # computed for one step read in the next), and the velocity with them
         stamped = stamp_to_sec(m.header.stamp) > 0.0
-        now = stamp_to_sec(m.header.stamp) if stamped else self._now()
-        if self._marker_specs.get(name) != spec or frame is not None:
-            self._velocities.forget(name)  # a new shape, or one carried by a link
+        now = stamp_to_sec(m.header.stamp) if stamped else self.node.now()
+        if self.specs.get(name) != spec or frame is not None:
+            self.velocities.forget(name)  # a new shape, or one carried by a link
         # republished in the world: its velocity from its poses (the stamps' clock, or the
         # receipts': no velocity across the two)
-        velocity = self._velocities.observe(name, pose[:3, 3], now, stamped)
+        velocity = self.velocities.observe(name, pose[:3, 3], now, stamped)
         # the pose's time on the controller's clock: its stamp in lockstep (the simulated time
         # the states carry), its receipt otherwise; the constraint carries it on from there
-        at = now if (stamped and self.trigger == 'joint_state') or not stamped else None
-        for c in self._collision:
-            if self._marker_specs.get(name) == spec:
+        at = now if (stamped and self.lockstep) or not stamped else None
+        for c in self.collision:
+            if self.specs.get(name) == spec:
                 c.move_obstacle(name, pose, frame, velocity, at)
             else:
                 c.add_obstacle(name, shape, size, pose, frame)
-        self._marker_specs[name] = spec
+        self.specs[name] = spec

@@ -51,7 +51,7 @@ class StateReception:
                 # the plausible, its state rejected, no command, the same state announced again).
                 # Others' (unstamped, older) are only told: the simulator does not wait on them
                 self.output.answered = stamp_ns(msg.header.stamp)
-                self._publish_safe(self._now(), 'safe:state', f'joint state rejected ({exc})',
+                self._publish_safe(self.now(), 'safe:state', f'joint state rejected ({exc})',
                                    fresh=False)
             return
         estimating = self._input.estimating
@@ -163,7 +163,8 @@ class StateReception:
             self._have_state = True
             self._apply_state()
             self.get_logger().info('first joint state received: control starts')
-            self.start_configured_targets()  # far targets along trajectories, not as steps
+            # far targets along trajectories, not as steps
+            self.targets.start_configured(self.now(), self._q, self._v)
         if self.trigger == 'joint_state':
             # lockstep: one step per simulated instant, once joint state (and odom) of that instant
             # are in

@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-New targets become jerk-limited trajectories (mixed into the controller node).
+New targets become jerk-limited trajectories (a part of the controller node).
 
 Per task, parameters under ``tasks.<name>.trajectory``: ``enabled`` [true]; Cartesian tasks
 ``max_velocity`` [0.25 m/s, 1.0 rad/s], ``max_acceleration`` [1.0 m/s^2, 3.0 rad/s^2], ``max_jerk``
@@ -27,7 +27,7 @@ servo as they are. Holding, resetting or expiring a target stops the trajectory.
 and the log says so (WARN, at most once a second per task).
 
 Configured targets (``target_position`` of a Cartesian task, ``target`` of a joint task) are set
-before the robot is seen. At the first state (:meth:`TargetSmoothing.start_configured_targets`),
+before the robot is seen. At the first state (:meth:`TargetSmoothing.start_configured`),
 one the robot is far from (beyond half the lead bound, where a running trajectory counts as not
 followed) becomes a trajectory from the measured
 state instead of a step (a step of d asks kp d of acceleration at once, beyond what contacts and
@@ -51,16 +51,26 @@ CARTESIAN_DEFAULTS = {
 
 
 class TargetSmoothing:
-    def setup_trajectories(self, task_config: dict) -> None:
+    """
+    The controller node's target trajectories: a part of the node (see the module).
+
+    ``setup``: the configured controller (its tasks by name); ``task_config``: the tasks'
+    parameters; ``say``: the node's throttled log. The measured joint state (model order) and
+    the controller's time are arguments of each call.
+    """
+
+    def __init__(self, setup, robot, task_config: dict, say):
+        self.setup, self.say = setup, say
+        self.n = len(setup.joints)
         self.trajectories: dict = {}
-        self._running: set[str] = set()
-        # tasks whose configuration gives a target (start_configured_targets)
-        self._configured = [
-            name for name, task in self.setup.tasks.items()
+        self.running: set[str] = set()
+        # tasks whose configuration gives a target (start_configured)
+        self.configured = [
+            name for name, task in setup.tasks.items()
             if ('target_position' if isinstance(task, CartesianTask) else 'target')
             in (task_config.get(name) or {})
         ]
-        for name, task in self.setup.tasks.items():
+        for name, task in setup.tasks.items():
             cfg = dict((task_config.get(name) or {}).get('trajectory') or {})
             if not cfg.pop('enabled', True):
                 continue
@@ -68,7 +78,7 @@ class TargetSmoothing:
                 lim = {k: cfg.get(k, d) for k, d in CARTESIAN_DEFAULTS.items()}
                 self.trajectories[name] = CartesianTrajectory(**lim)
             elif isinstance(task, JointAccelerationTask):
-                vel = self.robot.get_joint_velocity_limits()
+                vel = robot.get_joint_velocity_limits()
                 vel = np.where(np.isfinite(vel) & (vel > 0), 0.5 * vel, 1.0)
                 self.trajectories[name] = JointTrajectory(
                     self.n,
@@ -78,39 +88,37 @@ class TargetSmoothing:
                     cfg.get('max_lead', MAX_LEAD),
                 )
 
-    def smooth_target(self, name: str, target) -> bool:
+    def smooth(self, name: str, target, t: float, q, v) -> bool:
         """
-        Start a trajectory to ``target`` (4x4 pose in the base frame, or joint positions).
+        Start a trajectory to ``target`` (4x4 pose in the base frame, or joint positions) at t.
 
-        False when this task takes targets as steps.
-
-        Starts from the running reference if the servo follows it, else from the measured state.
+        False when this task takes targets as steps. Starts from the running reference if the
+        servo follows it, else from the measured state (``q``, ``v``: the joints').
         """
         gen = self.trajectories.get(name)
         if gen is None:
             return False
-        t = self._now()
         if isinstance(gen, CartesianTrajectory):
             servo = self.setup.tasks[name].servo_controller()
             pose = servo.get_current_cartesian_pose()
             measured = pose, servo.get_current_cartesian_velocity(), np.zeros(6)
         else:
-            measured = self._q.copy(), self._v.copy(), np.zeros(self.n)
+            measured = np.array(q, dtype=float), np.array(v, dtype=float), np.zeros(self.n)
         # from the robot, not from a reference the servo does not follow (on the leash, ahead)
-        following = name in self._running and gen.following(t, measured[0])
+        following = name in self.running and gen.following(t, measured[0])
         start = gen.sample(t) if following else measured
         gen.start(t, *start, target)
-        self._running.add(name)
+        self.running.add(name)
         return True
 
-    def start_configured_targets(self) -> None:
+    def start_configured(self, t: float, q, v) -> None:
         """
         At the first state: configured targets the robot is far from become trajectories.
 
         Far: beyond half the lead bound (see the module); the log says how far, once per task.
         The robot state must be applied to the model.
         """
-        for name in self._configured:
+        for name in self.configured:
             gen = self.trajectories.get(name)
             task = self.setup.tasks[name]
             if gen is None:
@@ -125,11 +133,11 @@ class TargetSmoothing:
                 how = f'{lin * 1e2:.0f} cm and {np.degrees(ang):.0f} deg'
             else:
                 target = task.get_desired()[0]
-                gap = np.abs(target - self._q)
+                gap = np.abs(target - q)
                 far = bool((gap / gen.lead > 0.5).any())
                 how = f'{gap.max():.2f} rad (a joint)'
             try:
-                smoothed = far and self.smooth_target(name, target)
+                smoothed = far and self.smooth(name, target, t, q, v)
             except ValueError as exc:  # no trajectory there (Ruckig): the step, as before
                 self.say('error', f'start:{name}', f"task '{name}': {exc}; its target is a step")
                 continue
@@ -141,19 +149,20 @@ class TargetSmoothing:
                     'trajectory',
                 )
 
-    def stop_trajectory(self, name: str) -> None:
-        self._running.discard(name)
+    def stop(self, name: str) -> None:
+        """Stop task ``name``'s trajectory (its target is held, reset, expired or a point)."""
+        self.running.discard(name)
 
-    def advance_trajectories(self, t: float) -> None:
+    def advance(self, t: float, q) -> None:
         """
         Before each update.
 
         Every running trajectory hands its sample at t to its task's servo, within the lead
-        bound of the measured state.
+        bound of the measured state (``q``: the joints').
         """
-        if not self._running:
+        if not self.running:
             return
-        for name in list(self._running):
+        for name in list(self.running):
             task = self.setup.tasks[name]
             gen = self.trajectories[name]
             restarts = gen.restarts
@@ -161,7 +170,7 @@ class TargetSmoothing:
                 servo = task.servo_controller()
                 servo.set_desired(*gen.follow(t, servo.get_current_cartesian_pose()))
             else:
-                task.set_desired(*gen.follow(t, self._q))
+                task.set_desired(*gen.follow(t, q))
             if gen.restarts != restarts:
                 bound = _lead_text(gen, isinstance(task, CartesianTask))
                 self.say(
@@ -171,7 +180,7 @@ class TargetSmoothing:
                     f'state (the reference led it by more than {bound})',
                 )
             if gen.finished(t):
-                self._running.discard(name)
+                self.running.discard(name)
 
 
 def _lead_text(gen, cartesian: bool) -> str:
