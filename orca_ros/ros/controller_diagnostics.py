@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-The controller node's ``/diagnostics`` (mixed into the node).
+The controller node's ``/diagnostics`` (a part of the node).
 
 Level and reason from :mod:`.health`, plus the numbers a user asks for first (solver status and
 time, loop period quantiles and jitter, RSS, active tasks).
@@ -30,7 +30,6 @@ from __future__ import annotations
 import time
 
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
-import numpy as np
 
 from .common import DEFAULT_QOS, param
 from .health import assess, persistent_error_text, TaskErrorWatch
@@ -42,121 +41,102 @@ _LEVEL = {0: DiagnosticStatus.OK, 1: DiagnosticStatus.WARN, 2: DiagnosticStatus.
 
 
 class ControllerDiagnostics:
-    def setup_diagnostics(self, rate: float) -> None:
-        self.overrun_factor = float(param(self, 'overrun_factor', 1.5))
+    """
+    The controller node's ``/diagnostics`` report: a part of the node (see the module).
+
+    ``node`` makes the publisher and the timer and gives what the report tells: its loop
+    statistics (``stats``), controller, command output, configuration, clock and state flags
+    (``have_state``, ``state_wall``, ``enabled``), timing settings (``period``,
+    ``update_rate``, ``trigger``, ``state_timeout``) and ``scheduling_refused``.
+    """
+
+    def __init__(self, node, rate: float):
+        self.node = node
+        self.overrun_factor = float(param(node, 'overrun_factor', 1.5))
         self.error_watch = TaskErrorWatch(
-            float(param(self, 'error_warn_threshold', 0.01)),
-            float(param(self, 'error_warn_time', 2.0)),
+            float(param(node, 'error_warn_threshold', 0.01)),
+            float(param(node, 'error_warn_time', 2.0)),
         )
-        self._say_error = ThrottledLog(self.get_logger(), period=self.error_watch.duration)
-        self._diag_marks = (0, 0, 0)  # cycles, QP failures, dropped levels at the previous report
-        self.pub_diag = self.create_publisher(DiagnosticArray, '/diagnostics', DEFAULT_QOS)
-        self.diagnostic_level = DiagnosticStatus.WARN
+        self._say_error = ThrottledLog(node.get_logger(), period=self.error_watch.duration)
+        self._marks = (0, 0, 0)  # cycles, QP failures, dropped levels at the previous report
+        self._wall = None  # wall time of the previous report
+        self.publisher = node.create_publisher(DiagnosticArray, '/diagnostics', DEFAULT_QOS)
+        self.level = DiagnosticStatus.WARN
         if rate > 0:
-            self.create_timer(
-                1.0 / rate, self.housekeeping.timer_callback(self._publish_diagnostics)
-            )
+            job = node.housekeeping.timer_callback(self.publish_diagnostics)
+            node.create_timer(1.0 / rate, job)
 
-    def loop_statistics(self):
+    def publish_diagnostics(self):
         """
-        Solve times and loop periods over the last ``statistics_window`` cycles.
-
-        A job's slices: one partition of a window per slice (each a fraction of a 1 kHz loop's
-        period, even on a large window); ``yield from`` returns the numbers.
-        """
-        sol, per = self.solve_times, self.loop_periods
-        solve_median, solve_p99 = sol.quantiles((0.5, 0.99))
-        yield
-        period_median, period_p99, period_p999 = per.quantiles((0.5, 0.99, 0.999))
-        yield
-        latency_median, latency_p99 = self.latencies.quantiles((0.5, 0.99))
-        yield
-        jitter = np.abs(per.values() - self.period) if len(per) else np.zeros(1)
-        jitter_p99 = float(np.percentile(jitter, 99) * 1e3)
-        yield
-        return {
-            'solve_median_us': solve_median * 1e6,
-            'solve_p99_us': solve_p99 * 1e6,
-            'solve_max_us': sol.max() * 1e6,
-            'period_mean_ms': per.mean() * 1e3,
-            'period_median_ms': period_median * 1e3,
-            'period_p99_ms': period_p99 * 1e3,
-            'period_p999_ms': period_p999 * 1e3,
-            'period_max_ms': per.max() * 1e3,
-            'latency_median_ms': latency_median * 1e3,
-            'latency_p99_ms': latency_p99 * 1e3,
-            'jitter_p99_ms': jitter_p99,
-        }
-
-    def _publish_diagnostics(self):
-        """
-        Publish the report (a job: the numbers in slices, see :meth:`loop_statistics`).
+        Publish the report (a job: the numbers in slices, see :meth:`.LoopStatistics.summary`).
 
         Its counters and its stamp are of one instant, the job's start: cycles run in the slices
         that follow are the next report's (a report whose cycle count was read later than its
         failure count told of more failures than cycles between two reports).
         """
+        node = self.node
+        stats, controller, output = node.stats, node.controller, node.output
         cycles, fails, dropped = (
-            self.loop_periods.total,
-            self.qp_failures,
-            self.controller.dropped_levels,
+            stats.loop_periods.total,
+            stats.qp_failures,
+            controller.dropped_levels,
         )
-        solved, sent, relaxed, ran = (self.solve_times.total, self.output.sent,
-                                      self.contacts_relaxed_cycles, self.loop_cycles)
-        stamp = self.get_clock().now().to_msg()
-        c0, f0, d0 = self._diag_marks
-        self._diag_marks = (cycles, fails, dropped)
+        solved, sent, relaxed, ran = (stats.solve_times.total, output.sent,
+                                      stats.contacts_relaxed_cycles, stats.loop_cycles)
+        stamp = node.get_clock().now().to_msg()
+        c0, f0, d0 = self._marks
+        self._marks = (cycles, fails, dropped)
         now = time.monotonic()
-        interval = now - getattr(self, '_diag_wall', now)
-        self._diag_wall = now
+        interval = now - (now if self._wall is None else self._wall)
+        self._wall = now
         # lockstep: a paused simulator re-announces its state about every 0.25 s, which is not a
         # fault
-        timeout = self.state_timeout if self.trigger == 'timer' else max(self.state_timeout, 0.5)
-        age = time.monotonic() - self._state_wall if self._have_state else 0.0
-        persistent = self.error_watch.persistent(self.now()) if self._have_state else []
+        timeout = node.state_timeout if node.trigger == 'timer' else max(node.state_timeout, 0.5)
+        age = time.monotonic() - node.state_wall if node.have_state else 0.0
+        persistent = self.error_watch.persistent(node.now()) if node.have_state else []
         self._say_error.period = self.error_watch.duration  # a live parameter
         for name, norm, dur in persistent:
             self._say_error('warning', f'error:{name}', persistent_error_text(name, norm, dur))
         level, message = assess(
-            have_state=self._have_state,
+            have_state=node.have_state,
             state_age=age,
             state_timeout=timeout,
-            safe_reason=self.output.reason,
-            safe_cause=self.output.cause,
+            safe_reason=output.reason,
+            safe_cause=output.cause,
             qp_failures=fails - f0,
-            last_failure=self.last_qp_failure,
+            last_failure=stats.last_qp_failure,
             dropped_levels=dropped - d0,
-            periods=self.loop_periods.latest(cycles - c0),
-            nominal_period=self.period,
-            check_periods=self.trigger == 'timer',
+            periods=stats.loop_periods.latest(cycles - c0),
+            nominal_period=node.period,
+            check_periods=node.trigger == 'timer',
             overrun_factor=self.overrun_factor,
             interval=interval,
             persistent_errors=persistent,
         )
         st = DiagnosticStatus()
-        st.name = f'{self.get_name()}: whole-body controller'
-        st.hardware_id = self.robot.name
+        st.name = f'{node.get_name()}: whole-body controller'
+        st.hardware_id = node.robot.name
         st.level, st.message = _LEVEL[level], message
-        self.diagnostic_level = st.level
+        self.level = st.level
         yield
-        stats = yield from self.loop_statistics()
-        active = [n for n, t in self.setup.tasks.items() if t.is_computing()]
+        numbers = yield from stats.summary(node.period)
+        active = [n for n, t in node.setup.tasks.items() if t.is_computing()]
         values = {
-            'solver_status': self.controller.get_return_code().value,
-            'solver': self.controller.solver.value,
-            'resolution_strategy': self.controller.resolution_strategy.value,
-            'update_rate_hz': f'{self.update_rate:g}',
-            'trigger': self.trigger,
-            'joints': ','.join(self.setup.joints),
-            'solve_time_median_us': f"{stats['solve_median_us']:.1f}",
-            'solve_time_p99_us': f"{stats['solve_p99_us']:.1f}",
-            'loop_period_mean_ms': f"{stats['period_mean_ms']:.3f}",
-            'loop_period_p99_ms': f"{stats['period_p99_ms']:.3f}",
-            'loop_period_p999_ms': f"{stats['period_p999_ms']:.3f}",
-            'loop_period_max_ms': f"{stats['period_max_ms']:.3f}",
-            'loop_jitter_p99_ms': f"{stats['jitter_p99_ms']:.3f}",
-            'state_to_command_median_ms': f"{stats['latency_median_ms']:.3f}",
-            'state_to_command_p99_ms': f"{stats['latency_p99_ms']:.3f}",
+            'solver_status': controller.get_return_code().value,
+            'solver': controller.solver.value,
+            'resolution_strategy': controller.resolution_strategy.value,
+            'update_rate_hz': f'{node.update_rate:g}',
+            'trigger': node.trigger,
+            'joints': ','.join(node.setup.joints),
+            'solve_time_median_us': f"{numbers['solve_median_us']:.1f}",
+            'solve_time_p99_us': f"{numbers['solve_p99_us']:.1f}",
+            'loop_period_mean_ms': f"{numbers['period_mean_ms']:.3f}",
+            'loop_period_p99_ms': f"{numbers['period_p99_ms']:.3f}",
+            'loop_period_p999_ms': f"{numbers['period_p999_ms']:.3f}",
+            'loop_period_max_ms': f"{numbers['period_max_ms']:.3f}",
+            'loop_jitter_p99_ms': f"{numbers['jitter_p99_ms']:.3f}",
+            'state_to_command_median_ms': f"{numbers['latency_median_ms']:.3f}",
+            'state_to_command_p99_ms': f"{numbers['latency_p99_ms']:.3f}",
             'cycles': str(solved),
             'loop_cycles': str(ran),  # with the cycles sent the safe command unsolved (stale)
             'qp_failures': str(fails),
@@ -164,32 +144,34 @@ class ControllerDiagnostics:
             'contacts_relaxed_cycles': str(relaxed),
             'dropped_levels': str(dropped),
             'rss_kb': str(_rss_kb()),
-            'solver_budget': self._budget_text(),
+            'solver_budget': _budget_text(controller),
             'active_tasks': ','.join(active),
-            'enabled': str(self._enabled),
-            'qp_conflict': self.qp_conflict,
+            'enabled': str(node.enabled),
+            'qp_conflict': stats.qp_conflict,
             # the process's scheduling as it is, and why a request was refused (realtime.py)
             'scheduling': scheduling_text(),
-            'scheduling_refused': self.scheduling_refused,
+            'scheduling_refused': node.scheduling_refused,
         }
         st.values = [KeyValue(key=k, value=v) for k, v in values.items()]
         arr = DiagnosticArray()
         arr.header.stamp = stamp
         arr.status = [st]
-        self.pub_diag.publish(arr)
+        self.publisher.publish(arr)
 
-    def _diagnose_failure(self) -> None:
+    def diagnose_failure(self) -> None:
         """Name the constraints that conflict (a few ms, once per failing spell)."""
+        node = self.node
         try:
-            self.qp_conflict = diagnose(self.controller).text()
+            node.stats.qp_conflict = diagnose(node.controller).text()
         except Exception as exc:  # noqa: BLE001 - the diagnosis must not make things worse
-            self.qp_conflict = f'diagnosis failed: {type(exc).__name__}: {exc}'
-        self.say('warning', 'diagnosis', f'QP failure diagnosis: {self.qp_conflict}')
+            node.stats.qp_conflict = f'diagnosis failed: {type(exc).__name__}: {exc}'
+        node.say('warning', 'diagnosis', f'QP failure diagnosis: {node.stats.qp_conflict}')
 
-    def _budget_text(self) -> str:
-        budget, cap = self.controller.get_solver_budget()
-        when = 'one period' if budget is None else f'{budget * 1e3:g} ms'
-        return f"{when}, {'default' if cap is None else cap} iterations"
+
+def _budget_text(controller) -> str:
+    budget, cap = controller.get_solver_budget()
+    when = 'one period' if budget is None else f'{budget * 1e3:g} ms'
+    return f"{when}, {'default' if cap is None else cap} iterations"
 
 
 def _rss_kb() -> int:

@@ -40,6 +40,7 @@ from std_srvs.srv import SetBool, Trigger
 from trajectory_msgs.msg import MultiDOFJointTrajectoryPoint
 
 from .common import DEFAULT_QOS, matrix_to_pose, pose_to_matrix
+from .controller_diagnostics import ControllerDiagnostics
 from ..robot.reach import task_reaches
 from ..task import CartesianTask, CoMTask, JointAccelerationTask, JointTorqueTask
 
@@ -84,7 +85,7 @@ class ControllerInterfaces:
         self.create_service(Trigger, '~/deactivate', self._on_deactivate)
         self.create_service(SetBool, '~/enable', self._on_enable)
         self.create_service(Trigger, '~/reset_targets', self._on_reset_targets)
-        self.setup_diagnostics(diagnostics_rate)
+        self.diagnostics = ControllerDiagnostics(self, diagnostics_rate)
         self._timing_pub = self.create_publisher(Float64MultiArray, '~/cycle_timing', DEFAULT_QOS)
         self._timing_sent = 0
         if feedback_rate > 0:
@@ -109,12 +110,12 @@ class ControllerInterfaces:
                         f"unknown frame '{frame}' (use 'world', '' for the base frame '{base}', "
                         'or a link of the model)'
                     )
-                if not self._have_state:
+                if not self.have_state:
                     raise ValueError(f"frame '{frame}' needs a joint state to be resolved")
-                self._apply_state()
+                self.apply_state()
                 T = self.robot.get_relative_transform(base, frame) @ T
-            elif self._have_state:
-                self._apply_state()
+            elif self.have_state:
+                self.apply_state()
             if self._out_of_reach(name, T):
                 return
             if not self._smooth(name, T):
@@ -206,8 +207,8 @@ class ControllerInterfaces:
 
     def _smooth(self, name: str, target) -> bool:
         """Start a trajectory to ``target`` once the robot was seen (TargetSmoothing.smooth)."""
-        return self._have_state and self.targets.smooth(name, target, self.now(), self._q,
-                                                        self._v)
+        return self.have_state and self.targets.smooth(name, target, self.now(), self._q,
+                                                       self._v)
 
     def expire_targets(self, t: float) -> None:
         if self.target_timeout <= 0:
@@ -218,10 +219,10 @@ class ControllerInterfaces:
                     f"target of task '{name}' older than {self.target_timeout} s: "
                     'holding the current state'
                 )
-                self._hold_task(self.setup.tasks[name])
+                self.hold_task(self.setup.tasks[name])
                 del self._target_time[name]
 
-    def _hold_task(self, task) -> None:
+    def hold_task(self, task) -> None:
         """
         Target := the current state (zero velocity), integrators cleared.
 
@@ -241,9 +242,9 @@ class ControllerInterfaces:
     # -------------------------------------------------------------- services
     def _on_set_active(self, name, req, res):
         task = self.setup.tasks[name]
-        if not req.data and self._have_state and task.is_computing():
-            self._apply_state()
-            self._hold_task(task)  # ramping out where it is, not pulling towards its old target
+        if not req.data and self.have_state and task.is_computing():
+            self.apply_state()
+            self.hold_task(task)  # ramping out where it is, not pulling towards its old target
         changed = task.activate() if req.data else task.deactivate()
         res.success = True
         res.message = (
@@ -261,7 +262,7 @@ class ControllerInterfaces:
     def _on_deactivate(self, req, res):
         # stop where you are: every target latches to the current state before the ramps start, so
         # nothing pulls while the tasks fade out; what remains is gravity compensation at rest
-        if self._have_state:
+        if self.have_state:
             self._reset_targets()
         self.controller.deactivate_tasks_and_constraints()
         res.success, res.message = (
@@ -271,15 +272,15 @@ class ControllerInterfaces:
         return res
 
     def _on_enable(self, req, res):
-        if req.data and not self._enabled and self._have_state:
+        if req.data and not self.enabled and self.have_state:
             self._reset_targets()  # resume from where the robot is, not from old targets
-        self._enabled = bool(req.data)
+        self.enabled = bool(req.data)
         res.success = True
         res.message = 'control enabled' if req.data else 'holding (gravity + damping)'
         return res
 
     def _on_reset_targets(self, req, res):
-        if not self._have_state:
+        if not self.have_state:
             res.success, res.message = False, 'no joint state received yet'
             return res
         self._reset_targets()
@@ -287,9 +288,9 @@ class ControllerInterfaces:
         return res
 
     def _reset_targets(self) -> None:
-        self._apply_state()
+        self.apply_state()
         for task in self.setup.tasks.values():
-            self._hold_task(task)
+            self.hold_task(task)
         self._target_time.clear()
 
     # -------------------------------------------------------------- feedback and diagnostics
@@ -299,7 +300,7 @@ class ControllerInterfaces:
 
         A job (housekeeping.py): one slice per task, each stamped when it runs.
         """
-        if not self._have_state:
+        if not self.have_state:
             return
         for name, task in self.setup.tasks.items():
             pose_pub, err_pub = self._feedback_pubs[name]
@@ -312,7 +313,7 @@ class ControllerInterfaces:
                 matrix_to_pose(servo.get_current_cartesian_pose(), msg.pose)
                 pose_pub.publish(msg)
                 e = servo.get_cartesian_pose_error()
-                self.error_watch.observe(
+                self.diagnostics.error_watch.observe(
                     name, float(np.linalg.norm(e[:3])) if task.is_computing() else 0.0, self.now()
                 )
                 err.data = e.tolist()
@@ -322,12 +323,12 @@ class ControllerInterfaces:
             yield
         self._publish_cycle_timing()
         yield
-        if self._have_state:
+        if self.have_state:
             self.markers.publish()
 
     def _publish_cycle_timing(self) -> None:
-        total = self.solve_times.total
-        k = min(total - self._timing_sent, self.solve_times.capacity)
+        total = self.stats.solve_times.total
+        k = min(total - self._timing_sent, self.stats.solve_times.capacity)
         self._timing_sent = total
         if k <= 0:
             return
@@ -337,7 +338,7 @@ class ControllerInterfaces:
             MultiArrayDimension(label='cycle', size=k, stride=k),
         ]
         msg.data = np.concatenate(
-            (self.cycle_stamps.latest(k), self.solve_times.latest(k))
+            (self.stats.cycle_stamps.latest(k), self.stats.solve_times.latest(k))
         ).tolist()
         self._timing_pub.publish(msg)
 

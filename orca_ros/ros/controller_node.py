@@ -48,13 +48,13 @@ from .common import (
     run_node,
     STATE_QOS,
 )
-from .controller_diagnostics import ControllerDiagnostics
 from .controller_interfaces import ControllerInterfaces
 from .controller_markers import ControllerMarkers
 from .guarded_node import GuardedNode
 from .housekeeping import Housekeeping
 from .joint_state_input import JointStateInput
 from .live_parameters import LiveParameters
+from .loop_statistics import LoopStatistics
 from .obstacle_markers import ObstacleInput
 from .realtime import configure_scheduling
 from .state_reception import StateReception
@@ -62,15 +62,12 @@ from .target_smoothing import TargetSmoothing
 from ..configuration import build_from_config
 from ..robot.base_twist_estimator import BaseTwistEstimator
 from ..safety import SafeCommand
-from ..utils.ring_buffer import RingBuffer
 
 
 class OrcaControllerNode(
     GuardedNode,
     StateReception,
     ControllerInterfaces,
-    ControllerDiagnostics,
-    LiveParameters,
 ):
     def __init__(self, **kwargs):
         super().__init__(
@@ -124,13 +121,13 @@ class OrcaControllerNode(
         # after a failed update, would be computed for nothing
         setup.controller.safe_command = None
         self._wire_of_model = setup.model_index  # model joint k -> wire slot
-        self._velocity_factor = float(param(self, 'velocity_factor', 3.0))
-        self._input = JointStateInput(
+        self.velocity_factor = float(param(self, 'velocity_factor', 3.0))
+        self.joint_input = JointStateInput(
             self.robot,
             setup.joints,
             setup.model_index,
             float(param(self, 'position_margin', 0.1)),
-            self._velocity_factor,
+            self.velocity_factor,
         )
         self._q = np.zeros(self.n)
         self._v = np.zeros(self.n)
@@ -140,25 +137,14 @@ class OrcaControllerNode(
         self._locked_q = np.zeros(len(self._locked))
         self._stopped = False
         self._state_stamp = None
-        self._state_wall = None  # wall time of the last valid joint state
+        self.state_wall = None  # wall time of the last valid joint state
         self._odom_wall = None  # ... and of the last valid odom (floating base)
-        self._have_state = False
-        self._enabled = True
+        self.have_state = False
+        self.enabled = True
         self._t_prev = None
-        self.qp_failures = 0
-        self.loop_cycles = 0  # cycles run with a state: solved, or safe without a solve (stale)
-        self.last_qp_failure = None  # what the last failed cycle said (for /diagnostics)
-        self.contacts_relaxed_cycles = 0  # cycles solved with elastic contacts (see optim/)
         self._diagnosed = False
-        self.qp_conflict = ''  # what diagnose() said of the last failing spell
-        # loop statistics over a bounded window (nothing grows while the node runs)
-        window = int(param(self, 'statistics_window', 10000))
-        self.solve_times = RingBuffer(window)
-        self.cycle_stamps = RingBuffer(window)  # controller time of each solve (cycle_timing)
-        self.loop_periods = RingBuffer(window)
-        # state in to command out: from the reception of the state a command answers to its
-        # publication
-        self.latencies = RingBuffer(window)
+        # the loop's counters and its statistics over a bounded window
+        self.stats = LoopStatistics(int(param(self, 'statistics_window', 10000)))
         # garbage collection kept out of the control cycle: at the first valid state, before the
         # first command (the full collection pauses the node for tens of milliseconds, and a
         # command stream that pauses right after it started lets a robot the simulator or its
@@ -214,7 +200,7 @@ class OrcaControllerNode(
             self.create_timer(self.period, self._control_step)
         elif self.trigger != 'joint_state':
             raise ValueError(f"trigger must be 'timer' or 'joint_state', got '{self.trigger}'")
-        self.setup_live_parameters()
+        self.live_parameters = LiveParameters(self)
         self.get_logger().info(
             f'orca_controller: {self.n} joints'
             f"{f' (locked: {self._locked})' if self._locked else ''}, "
@@ -283,7 +269,7 @@ class OrcaControllerNode(
         self.housekeeping.after_cycle()
 
     def _cycle(self) -> None:
-        if not self._have_state or self._stopped:
+        if not self.have_state or self._stopped:
             return  # nothing is sent before the first valid state, nor after the shutdown hold
         if self.manage_gc and not self._gc_frozen:
             # before the first command, where its pause holds up none; the state it aged is not
@@ -291,10 +277,10 @@ class OrcaControllerNode(
             self._freeze_garbage()
             self._computed_stamp = None  # unanswered: a repeated state is computed, not repeated
             return
-        self.loop_cycles += 1
+        self.stats.loop_cycles += 1
         wall = time.monotonic()
         if self._last_loop_wall is not None:
-            self.loop_periods.push(wall - self._last_loop_wall)
+            self.stats.loop_periods.push(wall - self._last_loop_wall)
         self._last_loop_wall = wall
         t = self.now()
         dt = self.period if self._t_prev is None else max(1e-6, t - self._t_prev)
@@ -304,7 +290,7 @@ class OrcaControllerNode(
         # so the wall-clock time between joint states and odom of one instant (long on a busy
         # machine) is no staleness; a silent simulator shows in the diagnostics instead
         if self.trigger == 'timer':
-            if wall - self._state_wall > self.state_timeout:
+            if wall - self.state_wall > self.state_timeout:
                 stale = 'joint_states'
             elif self.floating and wall - self._odom_wall > self.state_timeout:
                 stale = 'odom'
@@ -318,8 +304,8 @@ class OrcaControllerNode(
             return
         # the state the cycle runs on: the measured one, or the reference position and velocity
         # drives follow (orca_ros.command.JointCommand.state)
-        self._apply_state(*self.output.command.state(self._q, self._v))
-        if not self._enabled:
+        self.apply_state(*self.output.command.state(self._q, self._v))
+        if not self.enabled:
             self._publish_safe(
                 t, 'safe:disabled', 'controller disabled (~/enable false)', level='info'
             )
@@ -332,19 +318,19 @@ class OrcaControllerNode(
         except Exception as exc:  # a bug or bad data must not kill the node: go safe and say why
             self.say('error', 'update', f'controller update raised {type(exc).__name__}: {exc}')
             ok = False
-        self.solve_times.push(time.perf_counter() - t0)
-        self.cycle_stamps.push(t)
+        self.stats.solve_times.push(time.perf_counter() - t0)
+        self.stats.cycle_stamps.push(t)
         if not ok:
             code = self.controller.get_return_code()
-            self.qp_failures += 1
-            self.last_qp_failure = f'no QP solution ({code.value})'
-            self._publish_safe(t, 'safe:qp', self.last_qp_failure)
+            self.stats.qp_failures += 1
+            self.stats.last_qp_failure = f'no QP solution ({code.value})'
+            self._publish_safe(t, 'safe:qp', self.stats.last_qp_failure)
             if not self._diagnosed:  # once per failing spell, after the safe command went out
                 self._diagnosed = True
-                self._diagnose_failure()
+                self.diagnostics.diagnose_failure()
             return
         if self.controller.contacts_relaxed():
-            self.contacts_relaxed_cycles += 1
+            self.stats.contacts_relaxed_cycles += 1
             self.say('warning', 'contacts', 'rigid contacts infeasible: solved with the contacts '
                      'allowed to slip (elastic existence conditions)')
         if not self.output.solved(
@@ -357,7 +343,7 @@ class OrcaControllerNode(
         if reason is not None:
             self.say('info', 'recovered', f'recovered from: {reason}')
             self._diagnosed = False
-        self.latencies.push(time.monotonic() - self._state_wall)
+        self.stats.latencies.push(time.monotonic() - self.state_wall)
 
     def _publish_safe(
         self, t: float, cause: str, reason: str, fresh: bool = True, level: str = 'warning'
@@ -375,7 +361,7 @@ class OrcaControllerNode(
         it), waiting until it is delivered.
         """
         self._stopped = True
-        if not self._have_state:
+        if not self.have_state:
             return
         delivered = self.output.shutdown_hold(self._q)
         self.get_logger().info(
@@ -388,7 +374,7 @@ class OrcaControllerNode(
 
         If control is running, this cycle sends the safe command.
         """
-        if self._have_state and not self._stopped and 'control_step' in what:
+        if self.have_state and not self._stopped and 'control_step' in what:
             self._publish_safe(self.now(), 'safe:error', f'{what} raised {type(exc).__name__}')
 
     def configure_process(self) -> None:

@@ -29,6 +29,7 @@ import orca_ros as orca
 
 _NEXT_DOMAIN = [100 + (os.getpid() * 7) % 60]
 _FIRST_DOMAIN, _DOMAINS = 100, 130
+_KEEP = 8  # domains a process holds at most: its latest runs'
 _HELD: dict = {}  # domain -> the open lock file that holds it for this process, oldest first
 
 
@@ -45,28 +46,42 @@ def _claim(domain: int) -> bool:
     except OSError:
         fh.close()
         return False
-    _HELD[domain] = fh  # released when the process ends
+    _HELD[domain] = fh  # released when the process ends, or when it has claimed _KEEP since
+    while len(_HELD) > _KEEP:
+        _HELD.pop(next(iter(_HELD))).close()  # its oldest run is over: the domain is free again
     return True
 
 
-def free_domain_id() -> int:
+def free_domain_id(timeout: float = 60.0) -> int:
     """
     Return a ROS domain that no other run on this machine uses, nor this process lately.
 
     Domains 100..229, localhost-only discovery. Each is held by a lock file while the process
     lives, so two sessions (two test runs, two main jobs) never share one: they would hear each
-    other's nodes (forced onto one, two runs of test_ros_obstacles.py both failed). When every
-    free one has been taken, this process's oldest is used again (its runs are over: one at a
-    time).
+    other's nodes (forced onto one, two runs of test_ros_obstacles.py both failed). A process
+    holds its latest ``_KEEP`` domains only (a test session runs one after another): the others
+    it used are free again. When every domain is held: this process's oldest is used again (its
+    runs are over), or, holding none, it waits up to ``timeout`` seconds for one to be released,
+    then raises RuntimeError saying so.
     """
-    for _ in range(_DOMAINS):
-        d = _NEXT_DOMAIN[0]
-        _NEXT_DOMAIN[0] = _FIRST_DOMAIN + (d - _FIRST_DOMAIN + 1) % _DOMAINS
-        if d not in _HELD and _claim(d):
+    deadline = time.monotonic() + timeout
+    while True:
+        for _ in range(_DOMAINS):
+            d = _NEXT_DOMAIN[0]
+            _NEXT_DOMAIN[0] = _FIRST_DOMAIN + (d - _FIRST_DOMAIN + 1) % _DOMAINS
+            if d not in _HELD and _claim(d):
+                return d
+        if _HELD:
+            d = next(iter(_HELD))  # all taken: this process's oldest, moved to the end
+            _HELD[d] = _HELD.pop(d)
             return d
-    d = next(iter(_HELD))  # all taken: this process's oldest, moved to the end
-    _HELD[d] = _HELD.pop(d)
-    return d
+        if time.monotonic() > deadline:
+            raise RuntimeError(
+                f'every ROS domain {_FIRST_DOMAIN}-{_FIRST_DOMAIN + _DOMAINS - 1} is held by '
+                'other runs on this machine (lock files in the temporary folder, '
+                'orca_ros_domains)'
+            )
+        time.sleep(0.5)
 
 
 def ros_env(domain: int, local_only: bool = True) -> dict:

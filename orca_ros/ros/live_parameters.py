@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-Run-time parameter changes of the controller node (mixed into the node).
+Run-time parameter changes of the controller node (a part of the node).
 
 Checked against :mod:`.parameter_schema` and applied at once: gains, weights, ramps, activation,
 trajectory limits, timeouts, the joint impedance's gains.
@@ -33,23 +33,35 @@ from ..task import CartesianTask
 
 
 class LiveParameters:
-    def setup_live_parameters(self) -> None:
-        self.add_on_set_parameters_callback(self._on_set_parameters)
+    """
+    The controller node's run-time parameter changes: a part of the node (see the module).
 
-    def _on_set_parameters(self, params):
-        tasks = tuple(self.setup.tasks)
-        constraints = tuple(c.name for c in self.controller.get_constraints())
+    ``node`` takes the callback and is what the changes apply to: its configured controller
+    (``setup``, ``controller``), its parts (``targets``, ``output``, ``diagnostics``), its
+    joint state input (``joint_input``, ``velocity_factor``), its safe command (``safe``), its
+    solver budget (``solver_budget``, ``set_solver_budget``) and timeouts.
+    """
+
+    def __init__(self, node):
+        self.node = node
+        node.add_on_set_parameters_callback(self.on_set_parameters)
+
+    def on_set_parameters(self, params):
+        """Check every change of ``params``, then apply them all, or refuse them all."""
+        node = self.node
+        tasks = tuple(node.setup.tasks)
+        constraints = tuple(c.name for c in node.controller.get_constraints())
         try:
             actions = [
                 self._plan_change(p.name, *validate(p.name, p.value, tasks, constraints))
                 for p in params
             ]
         except (ParamRejected, ValueError) as exc:
-            self.say('warning', 'param:rejected', f'parameter change rejected: {exc}')
+            node.say('warning', 'param:rejected', f'parameter change rejected: {exc}')
             return SetParametersResult(successful=False, reason=str(exc))
         for act in actions:
             act()
-        self.get_logger().info(
+        node.get_logger().info(
             'parameters applied: ' + ', '.join(f'{p.name}={p.value!r}' for p in params)
         )
         return SetParametersResult(successful=True)
@@ -60,11 +72,12 @@ class LiveParameters:
 
         Sizes are checked here, before anything is applied.
         """
+        node = self.node
         key = name.rsplit('.', 1)[-1]
         if 'task' in groups:
-            task = self.setup.tasks[groups['task']]
+            task = node.setup.tasks[groups['task']]
             if '.trajectory.' in name:
-                gen = self.targets.trajectories.get(groups['task'])
+                gen = node.targets.trajectories.get(groups['task'])
                 if gen is None:
                     raise ParamRejected(f"'{name}': trajectories are disabled for this task")
                 attr = {'max_velocity': 'vmax', 'max_acceleration': 'amax', 'max_jerk': 'jmax'}[
@@ -95,50 +108,51 @@ class LiveParameters:
             if key == 'active':
                 return lambda: self._set_task_active(task, value)
         if 'constraint' in groups:
-            c = self.controller.get_constraint(groups['constraint'])
+            c = node.controller.get_constraint(groups['constraint'])
             return lambda: c.activate() if value else c.deactivate()
         if key in ('position_margin', 'velocity_factor'):
-            margin = value if key == 'position_margin' else self._input.margin
-            factor = value if key == 'velocity_factor' else self._velocity_factor
+            margin = value if key == 'position_margin' else node.joint_input.margin
+            factor = value if key == 'velocity_factor' else node.velocity_factor
             new_input = JointStateInput(
-                self.robot, self.setup.joints, self.setup.model_index, margin, factor
+                node.robot, node.setup.joints, node.setup.model_index, margin, factor
             )
 
             def apply():
-                new_input.estimator = self._input.estimator  # its velocity estimate goes on
-                self._input = new_input
-                self._velocity_factor = factor
+                new_input.estimator = node.joint_input.estimator  # its velocity estimate goes on
+                node.joint_input = new_input
+                node.velocity_factor = factor
 
             return apply
         if key in ('joint_stiffness', 'joint_damping'):
-            command = self.output.command
+            command = node.output.command
             gains = command.checked_gains(**{key.split('_')[1]: value})
             return lambda: command.set_gains(*gains)
         if key in ('solver_time_budget', 'solver_max_iterations'):
             slot = 0 if key == 'solver_time_budget' else 1
 
             def apply_budget():
-                self.solver_budget[slot] = value
-                self.set_solver_budget(*self.solver_budget)
+                node.solver_budget[slot] = value
+                node.set_solver_budget(*node.solver_budget)
 
             return apply_budget
         targets = {
-            'state_timeout': (self, 'state_timeout'),
-            'target_timeout': (self, 'target_timeout'),
-            'safe_damping': (self.safe, 'damping'),
-            'safe_ramp': (self.safe, 'ramp'),
-            'overrun_factor': (self, 'overrun_factor'),
-            'error_warn_threshold': (self.error_watch, 'threshold'),
-            'error_warn_time': (self.error_watch, 'duration'),
+            'state_timeout': (node, 'state_timeout'),
+            'target_timeout': (node, 'target_timeout'),
+            'safe_damping': (node.safe, 'damping'),
+            'safe_ramp': (node.safe, 'ramp'),
+            'overrun_factor': (node.diagnostics, 'overrun_factor'),
+            'error_warn_threshold': (node.diagnostics.error_watch, 'threshold'),
+            'error_warn_time': (node.diagnostics.error_watch, 'duration'),
         }
         obj, attr = targets[key]
         return lambda: setattr(obj, attr, value)
 
     def _set_task_active(self, task, active: bool) -> None:
+        node = self.node
         if active:
             task.activate()
             return
-        if self._have_state and task.is_computing():
-            self._apply_state()
-            self._hold_task(task)
+        if node.have_state and task.is_computing():
+            node.apply_state()
+            node.hold_task(task)
         task.deactivate()

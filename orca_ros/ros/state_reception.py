@@ -41,10 +41,11 @@ class StateReception:
     def _on_joint_state(self, msg: JointState) -> None:
         stamp = stamp_to_sec(msg.header.stamp)
         try:
-            self._input.read(msg.name, msg.position, msg.velocity, self._q_in, self._v_in, stamp)
+            self.joint_input.read(msg.name, msg.position, msg.velocity, self._q_in, self._v_in,
+                                  stamp)
         except StateRejected as exc:
             self.say('error', exc.cause, str(exc))
-            if (self.trigger == 'joint_state' and self._have_state and not self._stopped
+            if (self.trigger == 'joint_state' and self.have_state and not self._stopped
                     and stamp > self._state_stamp):
                 # lockstep: the simulator steps only once the state of a new instant is answered;
                 # the hold answers (without it the loop stopped for good: a joint speeding past
@@ -54,7 +55,7 @@ class StateReception:
                 self._publish_safe(self.now(), 'safe:state', f'joint state rejected ({exc})',
                                    fresh=False)
             return
-        estimating = self._input.estimating
+        estimating = self.joint_input.estimating
         if estimating != getattr(self, '_estimating', False):  # said once per spell
             self._estimating = estimating
             if estimating:
@@ -65,7 +66,7 @@ class StateReception:
             and self._state_stamp is not None
             and stamp <= self._state_stamp
         ):
-            self._state_wall = time.monotonic()
+            self.state_wall = time.monotonic()
             # a repeated state: the simulator re-announces itself when no command reached it (e.g.
             # sent before discovery matched it). Computing again would add a step; the command of
             # that instant is sent again
@@ -79,8 +80,8 @@ class StateReception:
             return
         self._q[:] = self._q_in
         self._v[:] = self._v_in
-        self._locked_q[:] = self._input.locked_positions
-        self._state_wall = time.monotonic()
+        self._locked_q[:] = self.joint_input.locked_positions
+        self.state_wall = time.monotonic()
         self._state_stamp = stamp
         self.output.answered = stamp_ns(msg.header.stamp)
         self._on_new_state()
@@ -145,7 +146,7 @@ class StateReception:
             return False
         return not self.floating or self._odom_stamp is not None
 
-    def _apply_state(self, q=None, v=None) -> None:
+    def apply_state(self, q=None, v=None) -> None:
         """Set the measured state on the model; (q, v): other joint states (a control cycle's)."""
         q = self._q if q is None else q
         v = self._v if v is None else v
@@ -159,9 +160,9 @@ class StateReception:
     def _on_new_state(self) -> None:
         if not self._state_ready():
             return
-        if not self._have_state:
-            self._have_state = True
-            self._apply_state()
+        if not self.have_state:
+            self.have_state = True
+            self.apply_state()
             self.get_logger().info('first joint state received: control starts')
             # far targets along trajectories, not as steps
             self.targets.start_configured(self.now(), self._q, self._v)
