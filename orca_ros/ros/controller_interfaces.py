@@ -12,7 +12,7 @@
 # See the License for the specific language governing permissions and
 # limitations under the License.
 """
-The controller node's task targets, services, feedback and diagnostics (mixed into the node).
+The controller node's task targets, services and feedback (mixed into the node).
 
 Per task ``<name>``: ``~/tasks/<name>/target_pose`` (geometry_msgs/PoseStamped; frame_id = any
 model link, empty = the base frame) for Cartesian tasks, ``~/tasks/<name>/target``
@@ -24,7 +24,8 @@ layout ``field`` x ``cycle``: controller time [s], then solve time [s]); ``~/mar
 same rate (:mod:`.controller_markers`). Node services:
 ``~/activate`` / ``~/deactivate`` (Trigger: every task and constraint, ramped), ``~/enable``
 (SetBool: false = hold with the safe command), ``~/reset_targets`` (Trigger: targets := current
-state). ``/diagnostics``: solver status, solve time, loop period and jitter, active tasks.
+state). ``/diagnostics`` (solver status, solve time, loop period and jitter, active tasks): the
+part :mod:`.controller_diagnostics`, made here.
 A pose target (``target_pose``, ``target_point``) outside the reach of the task's frame (a sphere
 from the kinematic chain, :mod:`orca_ros.robot.reach`) is ignored with a WARN line naming the task
 and the distance: the task holds its previous target.
