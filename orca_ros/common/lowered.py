@@ -40,14 +40,6 @@ _INACTIVE = (ActivationState.INIT, ActivationState.DEACTIVATED)
 _ACTIVATED = ActivationState.ACTIVATED
 
 
-def rebind(owner, attr: str, record: np.ndarray, start: int) -> None:
-    """Copy ``owner.attr`` into ``record[start:]`` and make the attribute a view on it."""
-    value = np.asarray(getattr(owner, attr), dtype=float)
-    view = record[start: start + value.size]
-    view[:] = value.reshape(-1)
-    setattr(owner, attr, view.reshape(value.shape))
-
-
 def offset_in(view: np.ndarray, base: np.ndarray) -> int:
     """Index of ``view``'s first element (1-D base) or row (2-D base) in ``base``."""
     if not np.shares_memory(view, base):
