@@ -16,6 +16,7 @@
 from __future__ import annotations
 
 import sys
+import time
 
 import numpy as np
 import rclpy
@@ -71,6 +72,31 @@ def nested_parameters(node, prefix: str) -> dict:
             d = d.setdefault(k, {})
         d[keys[-1]] = value
     return out
+
+
+def wait_for_robot_description(node, timeout: float) -> str:
+    """Take the URDF from the latched ``robot_description`` topic; wait up to ``timeout`` [s]."""
+    from std_msgs.msg import String  # noqa: PLC0415
+
+    got = []
+    sub = node.create_subscription(
+        String, 'robot_description', lambda m: got.append(m.data), DESCRIPTION_QOS
+    )
+    topic = node.resolve_topic_name('robot_description')
+    node.get_logger().info(f'no urdf_path or robot_description parameter: waiting on {topic}')
+    t0 = time.monotonic()
+    while not got and rclpy.ok(context=node.context):
+        if timeout > 0.0 and time.monotonic() - t0 > timeout:
+            raise RuntimeError(
+                'no URDF: no urdf_path or robot_description parameter, and nothing on '
+                f'{topic} within {timeout:.0f} s (robot_description_timeout)'
+            )
+        rclpy.spin_once(node, timeout_sec=0.1)
+    node.destroy_subscription(sub)
+    if not got:
+        raise RuntimeError('shut down while waiting for the URDF')
+    node.get_logger().info(f'URDF from {topic} ({len(got[-1])} characters)')
+    return got[-1]
 
 
 def make_executor():

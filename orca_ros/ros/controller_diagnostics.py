@@ -45,9 +45,9 @@ class ControllerDiagnostics:
     The controller node's ``/diagnostics`` report: a part of the node (see the module).
 
     ``node`` makes the publisher and the timer and gives what the report tells: its loop
-    statistics (``stats``), controller, command output, configuration, clock and state flags
-    (``have_state``, ``state_wall``, ``enabled``), timing settings (``period``,
-    ``update_rate``, ``trigger``, ``state_timeout``) and ``scheduling_refused``.
+    statistics (``stats``), controller, command output, configuration, clock, measured state
+    (``have_state``, ``state.wall``), activation (``activation.enabled``), timing settings
+    (``period``, ``update_rate``, ``trigger``, ``state_timeout``) and ``scheduling_refused``.
     """
 
     def __init__(self, node, rate: float):
@@ -92,7 +92,7 @@ class ControllerDiagnostics:
         # lockstep: a paused simulator re-announces its state about every 0.25 s, which is not a
         # fault
         timeout = node.state_timeout if node.trigger == 'timer' else max(node.state_timeout, 0.5)
-        age = time.monotonic() - node.state_wall if node.have_state else 0.0
+        age = time.monotonic() - node.state.wall if node.have_state else 0.0
         persistent = self.error_watch.persistent(node.now()) if node.have_state else []
         self._say_error.period = self.error_watch.duration  # a live parameter
         for name, norm, dur in persistent:
@@ -146,7 +146,7 @@ class ControllerDiagnostics:
             'rss_kb': str(_rss_kb()),
             'solver_budget': _budget_text(controller),
             'active_tasks': ','.join(active),
-            'enabled': str(node.enabled),
+            'enabled': str(node.activation.enabled),
             'qp_conflict': stats.qp_conflict,
             # the process's scheduling as it is, and why a request was refused (realtime.py)
             'scheduling': scheduling_text(),

@@ -19,8 +19,9 @@ commands on ``command_topic`` (Float64MultiArray in the ``joints`` order, reliab
 URDF that ``joints`` leaves out are locked in the model at the positions the joint states report
 (another controller drives them) and never commanded. The QP runs in
 a fixed-rate timer (``trigger: timer``) or once per received state (``trigger: joint_state``, for
-lockstep simulation). Task targets, services, feedback and diagnostics: see
-:mod:`orca_ros.ros.controller_interfaces`.
+lockstep simulation). Task targets, services, feedback and diagnostics: the parts
+:mod:`.task_targets`, :mod:`.activation_services`, :mod:`.task_feedback` and
+:mod:`.controller_diagnostics`.
 
 Safety: nothing is published before the first valid joint state; NaN/incomplete states are
 rejected; a stale state, a QP failure, ``~/enable false`` or shutdown switch to the safe command
@@ -30,45 +31,44 @@ line saying why; normal control resumes when good data returns.
 
 from __future__ import annotations
 
-import gc
 import sys
 import time
 
 from builtin_interfaces.msg import Time
 from nav_msgs.msg import Odometry
-import numpy as np
 from sensor_msgs.msg import JointState
-from std_msgs.msg import String
 
+from .activation_services import ActivationServices
 from .command_output import CommandOutput
-from .common import (
-    DESCRIPTION_QOS,
-    nested_parameters,
-    param,
-    run_node,
-    STATE_QOS,
-)
-from .controller_interfaces import ControllerInterfaces
+from .common import nested_parameters, param, run_node, stamp_ns, stamp_to_sec, STATE_QOS
+from .common import wait_for_robot_description
+from .controller_diagnostics import ControllerDiagnostics
 from .controller_markers import ControllerMarkers
 from .guarded_node import GuardedNode
-from .housekeeping import Housekeeping
-from .joint_state_input import JointStateInput
+from .housekeeping import GarbageCollection, Housekeeping
 from .live_parameters import LiveParameters
 from .loop_statistics import LoopStatistics
+from .measured_state import MeasuredState, StateRejected
 from .obstacle_markers import ObstacleInput
 from .realtime import configure_scheduling
-from .state_reception import StateReception
 from .target_smoothing import TargetSmoothing
+from .task_feedback import TaskFeedback
+from .task_targets import TaskTargets
 from ..configuration import build_from_config
-from ..robot.base_twist_estimator import BaseTwistEstimator
 from ..safety import SafeCommand
 
 
-class OrcaControllerNode(
-    GuardedNode,
-    StateReception,
-    ControllerInterfaces,
-):
+class OrcaControllerNode(GuardedNode):
+    """
+    The controller node: the loop and its lockstep decisions; the rest are parts.
+
+    Parts: ``state`` (:class:`.measured_state.MeasuredState`), ``output``
+    (:class:`.command_output.CommandOutput`), ``targets`` (:class:`.task_targets.TaskTargets`),
+    ``activation`` (:class:`.activation_services.ActivationServices`), ``feedback``
+    (:class:`.task_feedback.TaskFeedback`), ``diagnostics``, ``markers``, ``obstacles``,
+    ``live_parameters``, ``stats``, ``housekeeping``.
+    """
+
     def __init__(self, **kwargs):
         super().__init__(
             'orca_controller', automatically_declare_parameters_from_overrides=True, **kwargs
@@ -83,8 +83,8 @@ class OrcaControllerNode(
             )
         }
         if not cfg['urdf_path'] and not cfg['robot_description']:
-            cfg['robot_description'] = self._wait_for_robot_description(
-                float(param(self, 'robot_description_timeout', 60.0))
+            cfg['robot_description'] = wait_for_robot_description(
+                self, float(param(self, 'robot_description_timeout', 60.0))
             )
         cfg['tasks'] = nested_parameters(self, 'tasks')
         self.floating = bool(cfg['floating_base'])
@@ -110,7 +110,6 @@ class OrcaControllerNode(
             int(param(self, 'solver_max_iterations', 0)),
         ]
         self.set_solver_budget(*self.solver_budget)
-        self.target_timeout = float(param(self, 'target_timeout', 0.0))
         self.safe = SafeCommand(
             self.robot,
             setup.gravity_compensated_by_hardware,
@@ -120,82 +119,57 @@ class OrcaControllerNode(
         # the node sends this one on every fault (stale states and holds too): the core's own,
         # after a failed update, would be computed for nothing
         setup.controller.safe_command = None
-        self._wire_of_model = setup.model_index  # model joint k -> wire slot
-        self.velocity_factor = float(param(self, 'velocity_factor', 3.0))
-        self.joint_input = JointStateInput(
-            self.robot,
-            setup.joints,
-            setup.model_index,
-            float(param(self, 'position_margin', 0.1)),
-            self.velocity_factor,
+        self.state = MeasuredState(
+            self.robot, setup.joints, setup.model_index, floating=self.floating,
+            lockstep=self.trigger == 'joint_state',
+            position_margin=float(param(self, 'position_margin', 0.1)),
+            velocity_factor=float(param(self, 'velocity_factor', 3.0)),
+            odom_twist=str(param(self, 'odom_twist', 'auto')),
+            gravity=param(self, 'gravity', [0.0, 0.0, -9.81]), say=self.say,
         )
-        self._q = np.zeros(self.n)
-        self._v = np.zeros(self.n)
-        self._q_in = np.zeros(self.n)
-        self._v_in = np.zeros(self.n)
-        self._locked = self.robot.get_locked_joint_names()
-        self._locked_q = np.zeros(len(self._locked))
         self._stopped = False
-        self._state_stamp = None
-        self.state_wall = None  # wall time of the last valid joint state
-        self._odom_wall = None  # ... and of the last valid odom (floating base)
+        self._computed_stamp = None  # lockstep: the instant the last cycle computed
         self.have_state = False
-        self.enabled = True
         self._t_prev = None
         self._diagnosed = False
         # the loop's counters and its statistics over a bounded window
         self.stats = LoopStatistics(int(param(self, 'statistics_window', 10000)))
-        # garbage collection kept out of the control cycle: at the first valid state, before the
-        # first command (the full collection pauses the node for tens of milliseconds, and a
-        # command stream that pauses right after it started lets a robot the simulator or its
-        # drives just gave to the controller sag), everything alive is frozen out of the
-        # collector's sight and automatic collection is off; a low-rate timer collects the
-        # youngest generation between cycles (the cycle itself allocates little and creates no
-        # reference cycles)
-        self.manage_gc = bool(param(self, 'manage_gc', True))
+        # garbage collection out of the control cycle: frozen before the first command
+        self.collector = GarbageCollection(bool(param(self, 'manage_gc', True)))
         # real-time scheduling of the node's process (see realtime.py), as ros2_control's
         self.thread_priority = int(param(self, 'thread_priority', 50))
         self.cpu_affinity = [int(c) for c in param(self, 'cpu_affinity', [])]
         self.scheduling_refused = ''  # why the request above was not met (for /diagnostics)
-        self._gc_frozen = False
         self._last_loop_wall = None
         # feedback, diagnostics and garbage collection run in the slack after a cycle's command
         self.housekeeping = Housekeeping(
             self.period, lambda name, exc: self.say_raised(f"timer '{name}'", exc)
         )
-        self.output = CommandOutput.of_node(self, self.robot, self.safe, self._wire_of_model,
+        self.output = CommandOutput.of_node(self, self.robot, self.safe, setup.model_index,
                                             self.trigger == 'joint_state', setup.joints)
         self.create_subscription(JointState, 'joint_states', self._on_joint_state, STATE_QOS)
-        # floating base: the base pose and twist come from odom (nav_msgs/Odometry, twist in
-        # child_frame_id)
-        self._base_T = np.eye(4)
-        self._base_twist = np.zeros(6)
-        self._odom_stamp = None
-        self._odom_twist = str(param(self, 'odom_twist', 'auto'))
-        if self._odom_twist not in ('auto', 'measured', 'estimated'):
-            raise ValueError(
-                f"odom_twist must be 'auto', 'measured' or 'estimated', got '{self._odom_twist}'"
-            )
-        self._twist_estimator = BaseTwistEstimator()
-        self._gravity = np.array(param(self, 'gravity', [0.0, 0.0, -9.81]), dtype=float)
-        self._computed_stamp = None
-        if self.floating:
+        if self.floating:  # the base pose and twist (twist in child_frame_id)
             self.create_subscription(
                 Odometry, str(param(self, 'odom_topic', 'odom')), self._on_odom, STATE_QOS
             )
-        self.targets = TargetSmoothing(setup, self.robot, cfg['tasks'], self.say)
+        self.targets = TaskTargets(
+            self, setup, self.robot, self.state,
+            TargetSmoothing(setup, self.robot, cfg['tasks'], self.say),
+            float(param(self, 'target_timeout', 0.0)),
+        )
         self.obstacles = ObstacleInput(self, self.controller, self.robot,
                                        self.trigger == 'joint_state')
         self.markers = ControllerMarkers(self, self.robot, self.controller.layout.contacts,
                                          self.floating, self.state_time)
-        self.setup_interfaces(
-            float(param(self, 'diagnostics_rate', 5.0)), float(param(self, 'feedback_rate', 50.0))
+        self.activation = ActivationServices(self, setup, self.controller, self.targets)
+        self.diagnostics = ControllerDiagnostics(self, float(param(self, 'diagnostics_rate', 5.0)))
+        self.feedback = TaskFeedback(
+            self, setup, self.robot, self.stats, self.diagnostics.error_watch, self.markers,
+            float(param(self, 'feedback_rate', 50.0)), self.housekeeping,
         )
-        if self.manage_gc:
-            self.create_timer(
-                float(param(self, 'gc_period', 1.0)),
-                self.housekeeping.timer_callback(self._collect_garbage),
-            )
+        if self.collector.managed:
+            self.create_timer(float(param(self, 'gc_period', 1.0)),
+                              self.housekeeping.timer_callback(self.collector.collect_garbage))
         if self.trigger == 'timer':
             self.create_timer(self.period, self._control_step)
         elif self.trigger != 'joint_state':
@@ -203,35 +177,11 @@ class OrcaControllerNode(
         self.live_parameters = LiveParameters(self)
         self.get_logger().info(
             f'orca_controller: {self.n} joints'
-            f"{f' (locked: {self._locked})' if self._locked else ''}, "
+            f"{f' (locked: {self.state.locked})' if self.state.locked else ''}, "
             f'{self.update_rate:.0f} Hz ({self.trigger}), solver '
             f'{self.controller.solver.value}, tasks {list(setup.tasks)}, model '
             f"{self.robot.mjcf_path or self.robot.urdf_path or 'robot_description'}"
         )
-
-    def _wait_for_robot_description(self, timeout: float) -> str:
-        """Take the URDF from the latched ``robot_description`` topic; wait up to ``timeout``."""
-        import rclpy  # noqa: PLC0415
-
-        got = []
-        sub = self.create_subscription(
-            String, 'robot_description', lambda m: got.append(m.data), DESCRIPTION_QOS
-        )
-        topic = self.resolve_topic_name('robot_description')
-        self.get_logger().info(f'no urdf_path or robot_description parameter: waiting on {topic}')
-        t0 = time.monotonic()
-        while not got and rclpy.ok(context=self.context):
-            if timeout > 0.0 and time.monotonic() - t0 > timeout:
-                raise RuntimeError(
-                    'no URDF: no urdf_path or robot_description parameter, and nothing on '
-                    f'{topic} within {timeout:.0f} s (robot_description_timeout)'
-                )
-            rclpy.spin_once(self, timeout_sec=0.1)
-        self.destroy_subscription(sub)
-        if not got:
-            raise RuntimeError('shut down while waiting for the URDF')
-        self.get_logger().info(f'URDF from {topic} ({len(got[-1])} characters)')
-        return got[-1]
 
     def set_solver_budget(self, time_budget: float, max_iterations: int) -> None:
         """
@@ -248,6 +198,55 @@ class OrcaControllerNode(
         )
 
     # -------------------------------------------------------------- state input
+    def _on_joint_state(self, msg: JointState) -> None:
+        """
+        Take a joint state; compute a cycle when a lockstep instant is complete.
+
+        Lockstep (``trigger: joint_state``): a state repeated with the same stamp (the simulator
+        re-announcing an instant no command reached) re-sends the command of that instant
+        instead of computing another step; a rejected state of a new instant is answered with
+        the hold (the simulator steps only once an instant is answered).
+        """
+        stamp = stamp_to_sec(msg.header.stamp)
+        try:
+            new = self.state.read_joint_state(msg)
+        except StateRejected as exc:
+            self.say('error', exc.cause, str(exc))
+            if (self.trigger == 'joint_state' and self.have_state and not self._stopped
+                    and stamp > self.state.stamp):
+                self.output.answered = stamp_ns(msg.header.stamp)
+                self._publish_safe(self.now(), 'safe:state', f'joint state rejected ({exc})',
+                                   fresh=False)
+            return
+        if new:
+            self.output.answered = stamp_ns(msg.header.stamp)
+            self._on_new_state()
+        elif not self._stopped:
+            if stamp == self._computed_stamp:
+                self.output.repeat()
+            elif stamp == self.state.stamp:  # not answered yet (the cycle that froze the
+                self._on_new_state()  # collector sends nothing): answered now
+
+    def _on_odom(self, msg: Odometry) -> None:
+        if self.state.read_odom(msg):
+            self._on_new_state()
+
+    def _on_new_state(self) -> None:
+        if not self.state.ready:
+            return
+        if not self.have_state:
+            self.have_state = True
+            self.state.apply()
+            self.get_logger().info('first joint state received: control starts')
+            # far targets along trajectories, not as steps
+            self.targets.smoothing.start_configured(self.now(), self.state.q, self.state.v)
+        if self.trigger == 'joint_state':
+            # lockstep: one step per simulated instant, once joint state (and odom) of it are in
+            if not self.state.instant_complete or self._computed_stamp == self.state.stamp:
+                return
+            self._computed_stamp = self.state.stamp
+            self._control_step()
+
     # -------------------------------------------------------------- control
     def state_time(self) -> Time:
         """Return the stamp of the state the model holds: in lockstep its simulated instant."""
@@ -260,8 +259,8 @@ class OrcaControllerNode(
         """Return the controller's time [s]: the states' stamps in lockstep, else monotonic."""
         # lockstep runs follow the simulated time stamped on the states (deterministic); others the
         # wall clock
-        if self.trigger == 'joint_state' and self._state_stamp is not None:
-            return self._state_stamp
+        if self.trigger == 'joint_state' and self.state.stamp is not None:
+            return self.state.stamp
         return time.monotonic()
 
     def _control_step(self) -> None:
@@ -271,10 +270,10 @@ class OrcaControllerNode(
     def _cycle(self) -> None:
         if not self.have_state or self._stopped:
             return  # nothing is sent before the first valid state, nor after the shutdown hold
-        if self.manage_gc and not self._gc_frozen:
+        if self.collector.due:
             # before the first command, where its pause holds up none; the state it aged is not
             # answered: the next cycle's is fresh
-            self._freeze_garbage()
+            self.collector.freeze()
             self._computed_stamp = None  # unanswered: a repeated state is computed, not repeated
             return
         self.stats.loop_cycles += 1
@@ -290,9 +289,9 @@ class OrcaControllerNode(
         # so the wall-clock time between joint states and odom of one instant (long on a busy
         # machine) is no staleness; a silent simulator shows in the diagnostics instead
         if self.trigger == 'timer':
-            if wall - self.state_wall > self.state_timeout:
+            if wall - self.state.wall > self.state_timeout:
                 stale = 'joint_states'
-            elif self.floating and wall - self._odom_wall > self.state_timeout:
+            elif self.floating and wall - self.state.odom_wall > self.state_timeout:
                 stale = 'odom'
         if stale is not None:
             self._publish_safe(
@@ -304,14 +303,14 @@ class OrcaControllerNode(
             return
         # the state the cycle runs on: the measured one, or the reference position and velocity
         # drives follow (orca_ros.command.JointCommand.state)
-        self.apply_state(*self.output.command.state(self._q, self._v))
-        if not self.enabled:
+        self.state.apply(*self.output.command.state(self.state.q, self.state.v))
+        if not self.activation.enabled:
             self._publish_safe(
                 t, 'safe:disabled', 'controller disabled (~/enable false)', level='info'
             )
             return
-        self.expire_targets(t)
-        self.targets.advance(t, self._q)
+        self.targets.expire(t)
+        self.targets.smoothing.advance(t, self.state.q)
         t0 = time.perf_counter()
         try:
             ok = self.controller.update(t, dt)
@@ -334,7 +333,7 @@ class OrcaControllerNode(
             self.say('warning', 'contacts', 'rigid contacts infeasible: solved with the contacts '
                      'allowed to slip (elastic existence conditions)')
         if not self.output.solved(
-            self._q, self._v, self.controller.get_joint_torque_command(),
+            self.state.q, self.state.v, self.controller.get_joint_torque_command(),
             self.controller.get_joint_acceleration_command(), dt,
         ):
             self._publish_safe(t, 'safe:nonfinite', 'non-finite torque or acceleration command')
@@ -343,14 +342,15 @@ class OrcaControllerNode(
         if reason is not None:
             self.say('info', 'recovered', f'recovered from: {reason}')
             self._diagnosed = False
-        self.stats.latencies.push(time.monotonic() - self.state_wall)
+        self.stats.latencies.push(time.monotonic() - self.state.wall)
 
     def _publish_safe(
         self, t: float, cause: str, reason: str, fresh: bool = True, level: str = 'warning'
     ) -> None:
         """Send the hold at the measured state (``fresh`` False: stale, on the wall clock)."""
         self.output.hold(
-            t if fresh else time.monotonic(), cause, reason, self._q, self._v, fresh, level
+            t if fresh else time.monotonic(), cause, reason, self.state.q, self.state.v, fresh,
+            level,
         )
 
     def shutdown_command(self) -> None:
@@ -363,7 +363,7 @@ class OrcaControllerNode(
         self._stopped = True
         if not self.have_state:
             return
-        delivered = self.output.shutdown_hold(self._q)
+        delivered = self.output.shutdown_hold(self.state.q)
         self.get_logger().info(
             'shutdown: hold command sent' + ('' if delivered else ' (delivery not confirmed)')
         )
@@ -385,18 +385,6 @@ class OrcaControllerNode(
             if level != 'info':
                 refused.append(text)
         self.scheduling_refused = '; '.join(refused)
-
-    def _freeze_garbage(self) -> None:
-        """Collect everything, freeze what is alive, stop automatic collection (once)."""
-        gc.collect()
-        gc.freeze()
-        gc.disable()
-        self._gc_frozen = True
-
-    def _collect_garbage(self) -> None:
-        """Between cycles, once frozen (:meth:`_freeze_garbage`): collect the young."""
-        if self._gc_frozen:
-            gc.collect(1)
 
 
 def main(args=None) -> int:

@@ -30,6 +30,7 @@ simulator), the timer runs the whole job at once, as before.
 from __future__ import annotations
 
 from collections import deque
+import gc
 import time
 
 
@@ -121,3 +122,38 @@ class Housekeeping:
         except Exception as exc:  # noqa: BLE001
             self.on_error(name, exc)
             return False
+
+
+class GarbageCollection:
+    """
+    Garbage collection kept out of the control cycle (``manage_gc``).
+
+    At the first valid state, before the first command, :meth:`freeze` collects everything,
+    freezes what is alive out of the collector's sight and stops automatic collection: the full
+    collection pauses a process for tens of milliseconds, and a command stream that pauses right
+    after it started lets a robot the simulator or its drives just handed over sag. Then
+    :meth:`collect_garbage`, a low-rate job between cycles, collects the young generations (the
+    cycle itself allocates little and makes no reference cycles). ``managed`` False: Python's
+    own collection, untouched.
+    """
+
+    def __init__(self, managed: bool):
+        self.managed = managed
+        self.frozen = False
+
+    @property
+    def due(self) -> bool:
+        """Say whether :meth:`freeze` is still to run (managed, not frozen yet)."""
+        return self.managed and not self.frozen
+
+    def freeze(self) -> None:
+        """Collect everything, freeze what is alive, stop automatic collection (once)."""
+        gc.collect()
+        gc.freeze()
+        gc.disable()
+        self.frozen = True
+
+    def collect_garbage(self) -> None:
+        """Between cycles, once frozen: collect the young generations."""
+        if self.frozen:
+            gc.collect(1)

@@ -26,7 +26,6 @@ from __future__ import annotations
 import numpy as np
 from rcl_interfaces.msg import SetParametersResult
 
-from .joint_state_input import JointStateInput
 from .parameter_schema import ParamRejected, validate
 from ..servo.target_trajectory import checked_limits
 from ..task import CartesianTask
@@ -37,9 +36,9 @@ class LiveParameters:
     The controller node's run-time parameter changes: a part of the node (see the module).
 
     ``node`` takes the callback and is what the changes apply to: its configured controller
-    (``setup``, ``controller``), its parts (``targets``, ``output``, ``diagnostics``), its
-    joint state input (``joint_input``, ``velocity_factor``), its safe command (``safe``), its
-    solver budget (``solver_budget``, ``set_solver_budget``) and timeouts.
+    (``setup``, ``controller``), its parts (``targets``, ``output``, ``diagnostics``, the
+    measured ``state``'s plausibility bounds), its safe command (``safe``), its solver budget
+    (``solver_budget``, ``set_solver_budget``) and ``state_timeout``.
     """
 
     def __init__(self, node):
@@ -77,7 +76,7 @@ class LiveParameters:
         if 'task' in groups:
             task = node.setup.tasks[groups['task']]
             if '.trajectory.' in name:
-                gen = node.targets.trajectories.get(groups['task'])
+                gen = node.targets.smoothing.trajectories.get(groups['task'])
                 if gen is None:
                     raise ParamRejected(f"'{name}': trajectories are disabled for this task")
                 attr = {'max_velocity': 'vmax', 'max_acceleration': 'amax', 'max_jerk': 'jmax'}[
@@ -106,23 +105,20 @@ class LiveParameters:
             if key == 'ramp':
                 return lambda: task.set_ramp_duration(value)
             if key == 'active':
-                return lambda: self._set_task_active(task, value)
+                return lambda: node.targets.set_active(task, value)
         if 'constraint' in groups:
             c = node.controller.get_constraint(groups['constraint'])
             return lambda: c.activate() if value else c.deactivate()
         if key in ('position_margin', 'velocity_factor'):
-            margin = value if key == 'position_margin' else node.joint_input.margin
-            factor = value if key == 'velocity_factor' else node.velocity_factor
-            new_input = JointStateInput(
-                node.robot, node.setup.joints, node.setup.model_index, margin, factor
-            )
+            state = node.state
 
-            def apply():
-                new_input.estimator = node.joint_input.estimator  # its velocity estimate goes on
-                node.joint_input = new_input
-                node.velocity_factor = factor
+            def apply_bounds():  # the other bound as it is then (both may change in one request)
+                state.set_plausibility(
+                    value if key == 'position_margin' else state.joint_input.margin,
+                    value if key == 'velocity_factor' else state.velocity_factor,
+                )
 
-            return apply
+            return apply_bounds
         if key in ('joint_stiffness', 'joint_damping'):
             command = node.output.command
             gains = command.checked_gains(**{key.split('_')[1]: value})
@@ -137,7 +133,7 @@ class LiveParameters:
             return apply_budget
         targets = {
             'state_timeout': (node, 'state_timeout'),
-            'target_timeout': (node, 'target_timeout'),
+            'target_timeout': (node.targets, 'timeout'),
             'safe_damping': (node.safe, 'damping'),
             'safe_ramp': (node.safe, 'ramp'),
             'overrun_factor': (node.diagnostics, 'overrun_factor'),
@@ -146,13 +142,3 @@ class LiveParameters:
         }
         obj, attr = targets[key]
         return lambda: setattr(obj, attr, value)
-
-    def _set_task_active(self, task, active: bool) -> None:
-        node = self.node
-        if active:
-            task.activate()
-            return
-        if node.have_state and task.is_computing():
-            node.apply_state()
-            node.hold_task(task)
-        task.deactivate()
