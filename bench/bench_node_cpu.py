@@ -37,8 +37,8 @@ import argparse
 import tempfile
 
 import numpy as np
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 from orca_ros.utils.schedstat import thread_schedstat
 
 TARGET = 0.6e-3  # s of CPU per cycle at 1 kHz

@@ -39,8 +39,8 @@ import tempfile
 import time
 
 import numpy as np
-from orca_ros.ros.launch_free import free_domain_id, Procs  # noqa: E402
-from orca_ros.ros.probe import Probe  # noqa: E402
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs  # noqa: E402
+from orca_ros.ros.testing.probe import Probe  # noqa: E402
 
 
 def run(rate: float, seconds: float):

@@ -44,7 +44,7 @@ import time
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.ros.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
 
 
 def rss_kb(pid: int) -> int:

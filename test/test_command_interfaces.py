@@ -187,7 +187,7 @@ def test_the_arms_position_servos_are_critically_damped_at_every_posture(lwr):
     step (as the 1-DoF servo's above), plus the motion's Coriolis torques, left out by the law.
     Independent PDs on each joint's inertia 1 / (M^-1)_ii instead: the first joint 5x slower.
     """
-    from orca_ros.ros.launch_free import ARM_Q0
+    from orca_ros.ros.testing.launch_free import ARM_Q0
     from orca_ros.sim import SimServer
 
     w, h = 2 * np.pi * 20.0, 1e-3
@@ -230,7 +230,7 @@ def _lwr_config(**changes):
 def _accelerations(cfg, seconds=1.5):
     """Run the hand 10 cm along x on a perfect position drive: accelerations, torques, error."""
     from orca_ros.configuration import build_from_config
-    from orca_ros.ros.launch_free import ARM_Q0
+    from orca_ros.ros.testing.launch_free import ARM_Q0
 
     setup = build_from_config(cfg)
     c, robot = setup.controller, setup.robot

@@ -28,7 +28,7 @@ import tempfile
 import pytest
 
 pytest.importorskip('fcntl')
-from orca_ros.ros import launch_free as lf  # noqa: E402,I100
+from orca_ros.ros.testing import launch_free as lf  # noqa: E402,I100
 
 HOLD_ALL = """
 import fcntl, os, sys

@@ -202,8 +202,8 @@ def test_the_ur5e_by_name_reaches_its_targets_and_keeps_from_a_ball_through_the_
     constraint holds it between geometries each rounded by ROUNDING), within 1 mm; no failed
     cycle.
     """
-    from orca_ros.ros.launch_free import free_domain_id, Procs
-    from orca_ros.ros.probe import Probe
+    from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+    from orca_ros.ros.testing.probe import Probe
     from visualization_msgs.msg import Marker, MarkerArray
 
     robot = orca.RobotModel()
@@ -287,7 +287,7 @@ def test_a_name_the_menagerie_lacks_or_no_package_is_one_line_and_exit_1(
     The package's absence: the node's Python finds, first on its path, a ``mujoco_menagerie``
     that raises ImportError, as a missing package does.
     """
-    from orca_ros.ros.launch_free import free_domain_id, Procs
+    from orca_ros.ros.testing.launch_free import free_domain_id, Procs
 
     procs = Procs(free_domain_id(), str(tmp_path))
     env, name = None, 'universal_robots_ur5'

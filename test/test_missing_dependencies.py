@@ -122,8 +122,8 @@ def test_core_without_the_named_solver_refuses_with_its_pip_line(tmp_path):
 @pytest.fixture
 def ros():
     pytest.importorskip('rclpy', reason='the nodes need rclpy')
-    from orca_ros.ros.launch_free import free_domain_id, Procs
-    from orca_ros.ros.probe import Probe
+    from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+    from orca_ros.ros.testing.probe import Probe
 
     return free_domain_id, Procs, Probe
 

@@ -118,8 +118,8 @@ def _node_lines():
 
 def test_the_five_node_commands(tmp_path):
     pytest.importorskip('rclpy')
-    from orca_ros.ros.launch_free import _die_with_parent, free_domain_id, ros_env
-    from orca_ros.ros.probe import Probe
+    from orca_ros.ros.testing.launch_free import _die_with_parent, free_domain_id, ros_env
+    from orca_ros.ros.testing.probe import Probe
 
     lines = _node_lines()
     assert [shlex.split(ln)[0] for ln in lines] == [

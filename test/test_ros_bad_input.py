@@ -17,8 +17,8 @@ import time
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 import pytest
 from std_msgs.msg import Float64MultiArray
 

@@ -34,8 +34,8 @@ speed target and lives in bench/bench_node_cpu.py.
 
 
 import numpy as np
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 from orca_ros.utils.schedstat import thread_schedstat
 import pytest
 

@@ -23,8 +23,8 @@ import json
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.ros.launch_free import ARM_Q0, free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import ARM_Q0, free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 import pytest
 
 TARGET = [-0.45, -0.2, 0.45]
@@ -396,7 +396,7 @@ def test_the_simulated_servos_stay_stable_at_every_posture(tmp_path):
     that plus the servo's lag (at 20 Hz behind a path this smooth: a tenth of it).
     """
     from test_ros_nodes import _command_writer, _step
-    from orca_ros.ros.launch_free import ARM_Q0
+    from orca_ros.ros.testing.launch_free import ARM_Q0
 
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))

@@ -29,7 +29,7 @@ import gc
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.ros.launch_free import ARM_Q0, free_domain_id
+from orca_ros.ros.testing.launch_free import ARM_Q0, free_domain_id
 import pytest
 
 

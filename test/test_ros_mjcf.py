@@ -21,8 +21,8 @@ parser refuses, or a joint the model lacks, is one line naming the cause and exi
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 import pytest
 
 

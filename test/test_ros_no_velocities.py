@@ -21,8 +21,8 @@ A driver that publishes positions only: the controller estimates the velocities 
 import numpy as np
 import orca_ros as orca
 from orca_ros.robot.velocity_estimator import VelocityEstimator
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 import pytest
 
 # 29 cm from the hand at the lockstep start (the posture), at its orientation: a configured target

@@ -20,8 +20,8 @@ Lockstep, private ROS domain, localhost discovery.
 import os
 
 import numpy as np
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 import pytest
 from std_srvs.srv import SetBool, Trigger
 
@@ -332,7 +332,7 @@ def test_both_bridges_move_the_arm_alike_under_the_same_torques(tmp_path):
     PyBullet's 100 rad/s velocity clamp (the engines differ there by design: PyBullet's limits
     are hard, MuJoCo's soft and without a velocity clamp) nor a floor.
     """
-    from orca_ros.ros.launch_free import ARM_Q0
+    from orca_ros.ros.testing.launch_free import ARM_Q0
     import orca_ros as orca
 
     arm = orca.RobotModel()
@@ -352,7 +352,7 @@ def test_both_bridges_move_the_arm_alike_under_the_same_torques(tmp_path):
 @pytest.mark.parametrize('simulator', ['pybullet', 'mujoco'])
 def test_the_bridge_reset_puts_the_joints_back_at_rest(tmp_path, simulator):
     """``~/reset``: the joints at ``initial_positions``, at rest, in the next state announced."""
-    from orca_ros.ros.launch_free import ARM_Q0
+    from orca_ros.ros.testing.launch_free import ARM_Q0
 
     domain = free_domain_id()
     procs = Procs(domain, str(tmp_path))
@@ -391,7 +391,7 @@ def test_a_push_on_a_link_moves_the_arm_as_its_dynamics_say(tmp_path, simulator)
     """
     import orca_ros as orca
     from geometry_msgs.msg import WrenchStamped
-    from orca_ros.ros.launch_free import ARM_Q0
+    from orca_ros.ros.testing.launch_free import ARM_Q0
     import pinocchio as pin
 
     domain = free_domain_id()

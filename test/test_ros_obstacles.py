@@ -22,8 +22,8 @@ import coal
 from geometry_msgs.msg import Point
 import numpy as np
 import orca_ros as orca
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 import pinocchio as pin
 import pytest
 from visualization_msgs.msg import Marker, MarkerArray

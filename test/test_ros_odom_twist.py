@@ -24,8 +24,8 @@ import numpy as np
 import orca_ros as orca
 from orca_ros.examples import quadruped as quad
 from orca_ros.robot.base_twist_estimator import BaseTwistEstimator
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 import pinocchio as pin
 import pytest
 

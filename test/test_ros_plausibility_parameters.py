@@ -23,7 +23,7 @@ allows (but within the new ones) is accepted, and both bounds read back as set.
 
 import numpy as np
 import orca_ros as orca
-from orca_ros.ros.launch_free import ARM_Q0, free_domain_id
+from orca_ros.ros.testing.launch_free import ARM_Q0, free_domain_id
 
 
 def test_both_bounds_in_one_request_both_apply():

@@ -28,8 +28,8 @@ import re
 import numpy as np
 import orca_ros as orca
 from orca_ros.examples.quadruped import sinusoid
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 import pytest
 from test_ros_quadruped_start import _tilt, _vector, GAP, other_quadruped
 

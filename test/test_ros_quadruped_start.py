@@ -34,7 +34,7 @@ import time
 import numpy as np
 import orca_ros as orca
 from orca_ros.examples import quadruped_robot as qr
-from orca_ros.ros.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
 import pytest
 
 GAP = 0.001  # the docs place the trunk 1 mm above standing (0.327 m for the shipped 0.3259 m)

@@ -22,8 +22,8 @@ import time
 
 import numpy as np
 from orca_ros.robot.reach import robot_reach
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 import pytest
 
 FAR = np.array([-10.0, 0.0, 0.0])  # outwards, 10 m: far beyond the arm's 1.07 m

@@ -14,8 +14,8 @@
 """A controller started without a URDF takes it from the robot_description the bridge publishes."""
 
 import numpy as np
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 
 
 def test_controller_runs_on_the_bridges_robot_description(tmp_path):

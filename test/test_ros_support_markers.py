@@ -21,8 +21,8 @@ polygon of the four feet and one arrow per foot whose forces hold the robot's we
 import numpy as np
 import orca_ros as orca
 from orca_ros.examples import quadruped as quad
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 
 FORCE_SCALE = 0.001  # m/N, the arrows' length per newton
 

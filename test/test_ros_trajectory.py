@@ -18,8 +18,8 @@ No torque step, a straight path at the set speed.
 """
 
 import numpy as np
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 
 STEP = np.array([0.0, 0.25, -0.15])  # 29 cm
 TORQUE_STEP_BOUND = 2.0  # Nm per 1 ms cycle

@@ -26,7 +26,7 @@ import shutil
 import subprocess
 import sys
 
-from orca_ros.ros.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
 import pytest
 
 UDP_ONLY = """<?xml version="1.0" encoding="UTF-8" ?>

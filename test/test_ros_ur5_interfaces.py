@@ -25,8 +25,8 @@ joint_states); distances by coal on the URDF's own collision meshes at those sta
 import coal
 import numpy as np
 import orca_ros as orca
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 from orca_ros.sim import resolve_package_uris
 import pinocchio as pin
 import pytest

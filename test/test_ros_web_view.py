@@ -26,8 +26,8 @@ import sys
 import time
 
 import numpy as np
-from orca_ros.ros.launch_free import free_domain_id, Procs
-from orca_ros.ros.probe import Probe
+from orca_ros.ros.testing.launch_free import free_domain_id, Procs
+from orca_ros.ros.testing.probe import Probe
 import pytest
 
 # Debian's names (Ubuntu's chromium-browser as a fallback)

@@ -39,8 +39,8 @@ import time
 
 import numpy as np
 
-from .launch_free import free_domain_id, Procs
-from .probe import Probe
+from .testing.launch_free import free_domain_id, Procs
+from .testing.probe import Probe
 
 TARGET_TOPIC = '/orca_controller/tasks/ee/target_pose'
 OFFSETS = [

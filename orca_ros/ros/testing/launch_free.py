@@ -15,7 +15,7 @@
 Launch-free multi-process runs.
 
 The bridge and the controller as separate processes on a private ROS domain (the probe node that
-watches and drives them from the calling process is :mod:`orca_ros.ros.probe`).
+watches and drives them from the calling process is :mod:`orca_ros.ros.testing.probe`).
 """
 
 from __future__ import annotations
@@ -207,8 +207,8 @@ class Procs:
         Discovery is asynchronous: a recorder that matches the simulator and the controller late
         misses the start of the run (a lockstep simulation, faster than real time, may be over
         before it hears it). Start the bridge with ``start_paused:=true``, wait for this, then
-        unpause it (:meth:`orca_ros.ros.probe.Probe.unpause`): the bag holds the run from its
-        first step.
+        unpause it (:meth:`orca_ros.ros.testing.probe.Probe.unpause`): the bag holds the run from
+        its first step.
         """
         for topic in topics:
             self.wait_log(recorder, f'first message on {topic}', timeout=timeout)

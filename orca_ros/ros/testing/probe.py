@@ -26,7 +26,7 @@ import time
 import numpy as np
 import orca_ros as orca
 
-from .common import answered_ns
+from ..common import answered_ns
 
 
 class Probe:
