@@ -43,6 +43,7 @@ class SafeCommand:
         self.ramp = float(ramp)
         lim = robot.get_joint_torque_limits()
         self.limit = np.where((lim > 0) & np.isfinite(lim), lim, np.inf)
+        self._lower = -self.limit
         self._start: float | None = None
         n = robot.get_nr_of_degrees_of_freedom()
         self._nb = robot.get_configuration_space_dimension() - n
@@ -80,7 +81,8 @@ class SafeCommand:
             tau[:] = r.get_generalized_gravity_torques()[nb:]
         if v is not None:
             tau -= self.damping * (r.get_mass_matrix()[nb:, nb:] @ v)
-        return np.clip(tau, -self.limit, self.limit)
+        out = np.maximum(tau, self._lower)  # a new array: the caller may keep it
+        return np.minimum(out, self.limit, out=out)
 
     def compute(
         self, t: float, last_command: np.ndarray, q: np.ndarray, v: np.ndarray | None

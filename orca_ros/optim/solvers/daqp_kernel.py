@@ -80,8 +80,9 @@ def _solve(typingctx, fn, res, work):
     return sig, codegen
 
 
-#: ptrs: the addresses the kernel uses (WORK: 0 while no problem is set up)
-UPDATE, SOLVE, WORK, PROBLEM, RESULT = range(5)
+#: ptrs: the addresses the kernel uses (WORK: 0 while no problem is set up), then the count of
+#: DAQP's solves on the workspace (SOLVES)
+UPDATE, SOLVE, WORK, PROBLEM, RESULT, SOLVES = range(6)
 
 #: the solve's arrays (one StructRef argument: each array argument unboxed otherwise); the
 #: level's H, g, M, lo, hi, the scale d (dd = d d^T, inv = 1 / d), DAQP's buffers (scaled
@@ -148,6 +149,7 @@ def solve(s, mask, cap):
             return flag, 0
     s.settings[s.cap_at] = cap
     _solve(ptrs[SOLVE], ptrs[RESULT], ptrs[WORK])
+    ptrs[SOLVES] += 1
     flag = s.result[s.flag_at]
     iters = s.result[s.iter_at]
     if flag > 0:  # x written only when finite: it may be the level's own solution

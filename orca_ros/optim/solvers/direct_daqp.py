@@ -72,6 +72,9 @@ class DirectDAQPBackend(QPBackend):
         self._work = daqp_c.struct_in(self._wbuf, daqp_c.WorkspaceHead)
         self.warm = False
         self._checked = False  # the workspace's layout checked in full (its first set-up)
+        self._states = None  # the workspace's constraint flags (its active set), while set up
+        self._cold_at = -2  # the count of solves when the active set was last cleared
+        self._failure = None  # the code of a failed solve that started cold (solve_cold)
         self._ours = [False]  # the workspace holds our settings (put there once it checked)
         # the finalizer gets the workspace's view, not the module's layout: a layout looked up
         # when the collector runs may not be the one this workspace was set up and checked with
@@ -79,7 +82,7 @@ class DirectDAQPBackend(QPBackend):
         # the state's arrays (the kernel's StructRef cannot be read from Python)
         a = self._arrays = {
             'ptrs': np.array([lib.update_address, lib.solve_address, 0, self._pbuf.ctypes.data,
-                              self._rbuf.ctypes.data], dtype=np.int64),
+                              self._rbuf.ctypes.data, 0], dtype=np.int64),
             'H': np.zeros((nx, nx)), 'g': np.zeros(nx), 'M': np.zeros((m, nx)),
             'lo': np.zeros(nx + m), 'hi': np.zeros(nx + m),
             'd': d, 'dd': np.outer(d, d), 'inv': 1.0 / d,
@@ -140,11 +143,30 @@ class DirectDAQPBackend(QPBackend):
             self._solve(self.solve_state, 0, 0)
 
     def reset(self) -> None:
-        """Forget the warm start: the next solve sets DAQP up again."""
+        """Forget the workspace: the next solve sets DAQP up again."""
         if self.warm:
             _release(self._lib, self._wbuf, self._work, self._ours)
             self.warm = False
             self._ptrs[K.WORK] = 0
+            self._states = None
+
+    def restart(self) -> None:
+        """
+        Start the next solve cold on the same workspace: the active set cleared, nothing freed.
+
+        DAQP's update with the sense flags (UPDATE_ALL) activates the constraints the
+        workspace's flags mark active: the last solve's active set, the warm start. Written
+        back to the problem's own flags (the equalities only), that update starts from the
+        empty active set as a set-up does, without DAQP's allocation and release.
+        """
+        if self._states is not None:
+            self._states[:] = self._sense
+            self._cold_at = int(self._ptrs[K.SOLVES])
+
+    @property
+    def failed_cold(self) -> bool:
+        """Say whether the last solve started from the empty active set (a retry is no use)."""
+        return int(self._ptrs[K.SOLVES]) == self._cold_at + 1
 
     def _setup(self) -> int:
         """Set DAQP up on this cycle's problem, as daqp.Model.setup does; DAQP's flag."""
@@ -167,7 +189,9 @@ class DirectDAQPBackend(QPBackend):
         daqp_c.free(theirs)
         # from now on the workspace's own states: the next update keeps the active set
         p.sense = C.cast(work.sense, C.c_void_p).value
+        self._states = np.ctypeslib.as_array(work.sense, shape=(p.m,)) if p.m else None
         self._ptrs[K.WORK] = self._w_addr
+        self._cold_at = int(self._ptrs[K.SOLVES])
         return 0
 
     def _run(self, mask: int, cap: int) -> ReturnCode:
@@ -186,10 +210,24 @@ class DirectDAQPBackend(QPBackend):
             else _FLAGS.get(int(flag), ReturnCode.NOT_SOLVED)
         )
         if code is not ReturnCode.SUCCESS:
-            self.reset()  # a failed solve leaves a useless active set: start cold next time
+            # a retry from the empty active set (solve_cold) repeats a solve that started there
+            self._failure = None if not self.failed_cold else code
+            self.restart()  # a failed solve leaves a useless active set: start cold next time
         return code
 
     def solve_cold(self, cap: int) -> ReturnCode:
+        """
+        Solve from the empty active set: on the workspace there is, else on a new one.
+
+        After a failed solve that started there (the one after a failure), its code: the same
+        solve again would fail the same way.
+        """
+        if self.warm and self._states is not None:
+            failure, self._failure = self._failure, None
+            if failure is not None:
+                return failure
+            self.restart()
+            return self._run(daqp_c.UPDATE_ALL, cap)
         flag = self._setup()
         if flag < 0:
             self.iterations = 0
