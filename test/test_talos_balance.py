@@ -96,12 +96,23 @@ def test_talos_sways_its_com_with_default_settings(talos_standing):
     assert drift < 5e-4, f'a sole drifted {drift * 1e3:.2f} mm'
 
 
+#: the back-ends' stopping tolerances (ProxQPBackend: duality gap and residuals 1e-9; OSQPBackend:
+#: absolute and relative 1e-7), in the objective's units
+_STOP = {'proxqp': 1e-9, 'osqp': 1e-7}
+
+
 @pytest.mark.parametrize('solver', ['proxqp', 'osqp'])
 def test_talos_solvers_agree_with_the_default(talos_standing, solver):
     """
-    Every back-end solves the scaled problem alike (1e-6 relative), cycle after cycle.
+    Every back-end solves the scaled problem alike, cycle after cycle.
 
-    A 3 cm CoM step: one sole nearly unloaded, the wrench block degenerate.
+    A 3 cm CoM step: one sole nearly unloaded, the wrench block degenerate. Alike: the solutions
+    within 1e-6 relative; where they are not (DAQP's active set is exact, an interior-point or
+    ADMM solver stops within its tolerance, and a nearly flat direction of the objective turns
+    that into a visible step in x: seen at one cycle of 200 on some CPUs), equally optimal: the
+    other's objective above DAQP's by at most its stopping tolerance, and the two apart by no more
+    than that allows, (x1 - x0)^T H (x1 - x0) <= 2 (f(x1) - f(x0)) + 2 tol, the strong convexity
+    of the objective at DAQP's optimum.
     """
     runs = [_talos(talos_standing, s) for s in ('daqp', solver)]
     import pinocchio as pin
@@ -119,7 +130,17 @@ def test_talos_solvers_agree_with_the_default(talos_standing, solver):
         # in the solver's units (accelerations, wrenches in the robot's weight)
         d = c0.layout.variable_scale
         x0, x1 = c0.get_reduced_solution() / d, c1.get_reduced_solution() / d
-        assert np.abs(x1 - x0).max() <= 1e-6 * np.abs(x0).max()
+        if np.abs(x1 - x0).max() > 1e-6 * np.abs(x0).max():
+            problem = c0.get_problem_at_level(0)
+            H, g = problem.H, problem.g
+            X0, X1 = c0.get_reduced_solution(), c1.get_reduced_solution()
+            gap = 0.5 * X1 @ H @ X1 + g @ X1 - (0.5 * X0 @ H @ X0 + g @ X0)
+            e = X1 - X0
+            tol = _STOP[solver]
+            print(f'cycle {k}: {np.abs(x1 - x0).max():.2e} apart, objective {gap:.2e} above '
+                  f"DAQP's, (x1 - x0)^T H (x1 - x0) = {e @ H @ e:.2e}")
+            assert -tol <= gap <= tol, (k, gap)
+            assert e @ H @ e <= 2.0 * (max(gap, 0.0) + tol), (k, e @ H @ e, gap)
         v = v + DT * x0[: model.nv]
         q = pin.integrate(model, q, DT * v)
 
